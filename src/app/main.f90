@@ -1,0 +1,3 @@
+program ictus
+  implicit none
+end program ictus

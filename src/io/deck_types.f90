@@ -1,0 +1,244 @@
+!> Typed records of an input deck, as read (before any resolution into the model).
+!!
+!! The deck reader (`ictus_io_deck_reader`) fills a `deck_t`; `ictus_app_build_model` turns it
+!! into the model. Every record keeps `where` = "file:line" of the card (or data line) it came
+!! from, so that later checks can name the place in the deck.
+!! Identifiers (set, material, patch, surface names) are stored in upper case.
+module ictus_io_deck_types
+  use ictus_core_kinds, only: dp, str_len
+  use ictus_geometry_sides, only: SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, &
+      SIDE_ALL, side_name
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen
+  use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
+      HRZ_FULL, HRZ_GAUSS2
+  implicit none
+  private
+  public :: deck_t, material_in_t, element_block_in_t, set_in_t, surface_in_t, &
+      boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
+      step_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
+      ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
+      ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
+      SET_NODE, SET_ELEMENT, &
+      SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, side_name, &
+      SURF_ELEMENT, SURF_PATCH, &
+      MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
+      HRZ_FULL, HRZ_GAUSS2, &
+      OP_ELEVATE, OP_REFINE, &
+      CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT
+
+  !> Length of a "file:line" location string.
+  integer, parameter :: where_len = 320
+
+  integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2
+  integer, parameter :: SET_NODE = 1, SET_ELEMENT = 2
+  integer, parameter :: SURF_ELEMENT = 1, SURF_PATCH = 2
+  integer, parameter :: OP_ELEVATE = 1, OP_REFINE = 2
+  integer, parameter :: CONTACT_TWO_HALF_PASS = 1, CONTACT_NODE_TO_SEGMENT = 2
+
+  !> *MATERIAL with its *ELASTIC and *DENSITY.
+  type :: material_in_t
+    character(len=str_len) :: name = ''
+    real(dp) :: e = 0.0_dp
+    real(dp) :: nu = 0.0_dp
+    real(dp) :: rho = 0.0_dp
+    logical :: has_elastic = .false.
+    logical :: has_density = .false.
+    character(len=where_len) :: where = ''
+  end type material_in_t
+
+  !> One *ELEMENT card and its data lines.
+  type :: element_block_in_t
+    integer :: etype = 0
+    !> Nodes per element (4, 8 or 9).
+    integer :: nen = 0
+    character(len=str_len) :: elset = ''
+    character(len=str_len) :: material = ''
+    !> Gauss points per direction for stiffness and consistent mass (2 or 3; 0 = default:
+    !! 2 for Q4, 3 for Q8 and Q9).
+    integer :: gauss = 0
+    !> Element ids, (nel).
+    integer, allocatable :: ids(:)
+    !> Node ids, (nen, nel), in the order of the deck.
+    integer, allocatable :: conn(:,:)
+    !> Line of each element's data, (nel); the file is `file`.
+    integer, allocatable :: line(:)
+    character(len=where_len) :: file = ''
+    character(len=where_len) :: where = ''
+  end type element_block_in_t
+
+  !> *NSET or *ELSET (one card; several cards with one name are merged by the reader).
+  type :: set_in_t
+    character(len=str_len) :: name = ''
+    !> SET_NODE or SET_ELEMENT.
+    integer :: kind = 0
+    !> Explicit ids (after GENERATE expansion).
+    integer, allocatable :: ids(:)
+    !> Names of other sets included in this one.
+    character(len=str_len), allocatable :: refs(:)
+    !> Location of each reference, for messages.
+    character(len=where_len), allocatable :: ref_where(:)
+    !> For *NSET, PATCH=, SIDE=: the patch and side (SIDE_NONE otherwise).
+    character(len=str_len) :: patch = ''
+    integer :: side = SIDE_NONE
+    character(len=where_len) :: where = ''
+  end type set_in_t
+
+  !> *SURFACE.
+  type :: surface_in_t
+    character(len=str_len) :: name = ''
+    !> SURF_ELEMENT or SURF_PATCH.
+    integer :: kind = 0
+    !> TYPE=ELEMENT: element id (0 when `elset` is used) and face 1..4 of each entry.
+    integer, allocatable :: elem(:)
+    integer, allocatable :: face(:)
+    !> TYPE=ELEMENT: element set name of each entry ('' when `elem` is used).
+    character(len=str_len), allocatable :: elset(:)
+    character(len=where_len), allocatable :: entry_where(:)
+    !> PATCH=, SIDE=.
+    character(len=str_len) :: patch = ''
+    integer :: side = SIDE_NONE
+    character(len=where_len) :: where = ''
+  end type surface_in_t
+
+  !> One data line of *BOUNDARY: prescribed displacement on dofs first..last.
+  type :: boundary_in_t
+    !> Node set name, or a node id written as text.
+    character(len=str_len) :: target = ''
+    integer :: first_dof = 0
+    integer :: last_dof = 0
+    real(dp) :: value = 0.0_dp
+    character(len=where_len) :: where = ''
+  end type boundary_in_t
+
+  !> One data line of *INITIAL CONDITIONS, TYPE=VELOCITY.
+  type :: velocity_in_t
+    character(len=str_len) :: target = ''
+    integer :: dof = 0
+    real(dp) :: value = 0.0_dp
+    character(len=where_len) :: where = ''
+  end type velocity_in_t
+
+  !> *MASS.
+  type :: mass_in_t
+    integer :: kind = MASS_HRZ
+    !> TYPE=ALPHA: midside fraction.
+    real(dp) :: alpha = 0.0_dp
+    !> TYPE=HRZ: HRZ_FULL (default) or HRZ_GAUSS2 (parameter INTEGRATION=2X2).
+    integer :: hrz_rule = HRZ_FULL
+    !> Which body: ELSET= or PATCH= ('' for all).
+    character(len=str_len) :: elset = ''
+    character(len=str_len) :: patch = ''
+    character(len=where_len) :: where = ''
+  end type mass_in_t
+
+  !> *DAMPING.
+  type :: damping_in_t
+    real(dp) :: alpha = 0.0_dp
+    character(len=str_len) :: elset = ''
+    character(len=str_len) :: patch = ''
+    character(len=where_len) :: where = ''
+  end type damping_in_t
+
+  !> *PATCH with its *KNOTS and *CONTROL POINTS, as read (before refinement).
+  type :: patch_in_t
+    character(len=str_len) :: name = ''
+    character(len=str_len) :: material = ''
+    integer :: degree(2) = 0
+    integer :: size(2) = 0
+    real(dp), allocatable :: knots1(:)
+    real(dp), allocatable :: knots2(:)
+    !> Control points (3, n1*n2): x, y, w; direction-1 index fastest.
+    real(dp), allocatable :: cp(:,:)
+    logical :: has_knots(2) = .false.
+    logical :: has_cp = .false.
+    character(len=where_len) :: where = ''
+  end type patch_in_t
+
+  !> *ELEVATE or *REFINE, in deck order.
+  type :: patch_op_in_t
+    integer :: kind = 0
+    character(len=str_len) :: patch = ''
+    !> ELEVATE: target degrees q1, q2; REFINE: subdivisions k1, k2.
+    integer :: values(2) = 0
+    character(len=where_len) :: where = ''
+  end type patch_op_in_t
+
+  !> *STEP ... *END STEP.
+  type :: step_in_t
+    !> Time step; 0 = automatic (safety * 2/omega_max).
+    real(dp) :: dt = 0.0_dp
+    real(dp) :: t_end = 0.0_dp
+    real(dp) :: safety = 0.9_dp
+    !> History output every n steps (default 1).
+    integer :: history_every = 1
+    !> Field output every n steps (0 = default: 20 snapshots over the run).
+    integer :: field_every = 0
+    !> Checkpoint every n steps (0 = none).
+    integer :: restart_every = 0
+    character(len=where_len) :: where = ''
+  end type step_in_t
+
+  !> *CONTACT PAIR.
+  type :: contact_pair_in_t
+    character(len=str_len) :: name = ''
+    real(dp) :: penalty = 0.0_dp
+    integer :: algorithm = CONTACT_TWO_HALF_PASS
+    !> Bipenalty mass penalty: < 0 none (default), 0 = AUTO, > 0 the given epsilon_m.
+    real(dp) :: mass_penalty = -1.0_dp
+    character(len=str_len) :: first = ''
+    character(len=str_len) :: second = ''
+    character(len=where_len) :: where = ''
+  end type contact_pair_in_t
+
+  !> *RIGID WALL.
+  type :: rigid_wall_in_t
+    character(len=str_len) :: name = ''
+    real(dp) :: point(2) = 0.0_dp
+    real(dp) :: normal(2) = 0.0_dp
+    real(dp) :: penalty = 0.0_dp
+    character(len=str_len) :: surface = ''
+    character(len=where_len) :: where = ''
+  end type rigid_wall_in_t
+
+  !> The whole deck.
+  type :: deck_t
+    !> Path of the main deck file.
+    character(len=:), allocatable :: path
+    character(len=:), allocatable :: title
+    integer :: analysis = ANALYSIS_PLANE_STRAIN
+    real(dp) :: thickness = 1.0_dp
+    integer :: n_materials = 0
+    type(material_in_t), allocatable :: materials(:)
+    !> FE nodes: ids (n) and coordinates (2, n), in deck order.
+    integer :: n_nodes = 0
+    integer, allocatable :: node_ids(:)
+    real(dp), allocatable :: node_x(:,:)
+    character(len=where_len), allocatable :: node_where(:)
+    integer :: n_blocks = 0
+    type(element_block_in_t), allocatable :: blocks(:)
+    integer :: n_sets = 0
+    type(set_in_t), allocatable :: sets(:)
+    integer :: n_surfaces = 0
+    type(surface_in_t), allocatable :: surfaces(:)
+    integer :: n_boundaries = 0
+    type(boundary_in_t), allocatable :: boundaries(:)
+    integer :: n_velocities = 0
+    type(velocity_in_t), allocatable :: velocities(:)
+    integer :: n_masses = 0
+    type(mass_in_t), allocatable :: masses(:)
+    integer :: n_dampings = 0
+    type(damping_in_t), allocatable :: dampings(:)
+    integer :: n_patches = 0
+    type(patch_in_t), allocatable :: patches(:)
+    integer :: n_patch_ops = 0
+    type(patch_op_in_t), allocatable :: patch_ops(:)
+    integer :: n_pairs = 0
+    type(contact_pair_in_t), allocatable :: pairs(:)
+    integer :: n_walls = 0
+    type(rigid_wall_in_t), allocatable :: walls(:)
+    logical :: has_step = .false.
+    type(step_in_t) :: step
+  end type deck_t
+
+
+end module ictus_io_deck_types
