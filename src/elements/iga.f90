@@ -1,0 +1,119 @@
+!> Shape data of a Bezier-extracted NURBS element (one non-empty knot-span rectangle).
+!!
+!! On the element, N = (C2 (x) C1) B with B the tensor-product Bernstein polynomials of the
+!! local variables t_i = (xi~_i + 1)/2, and R_A = w_A N_A / W, W = sum w_B N_B = w_b . B with
+!! w_b = C^T w (physics.md §7.1). Derivatives are taken with respect to the parent
+!! coordinates (xi~, eta~) in [-1, 1]^2, so the standard solid element routine
+!! (J = sum dR/dxi~ x_A) integrates over the physical span exactly.
+module ictus_elements_iga
+  use ictus_core_kinds, only: dp, pi
+  use ictus_geometry_bezier, only: bernstein
+  use ictus_elements_types, only: elem_shape_t
+  implicit none
+  private
+  public :: iga_shape_data, iga_basis_at, iga_gauss_legendre
+
+contains
+
+  !> NURBS basis and parent derivatives at all Gauss points of one element.
+  !! @param p degrees (2); @param c1e extraction operator of direction 1 (p1+1, p1+1);
+  !! @param c2e extraction operator of direction 2 (p2+1, p2+1); @param wl weights of the
+  !! element's control points (nen), direction 1 fastest; @param ngauss Gauss points per
+  !! direction (2); @param shp filled: nen, ngp = ngauss1*ngauss2 (direction 1 fastest),
+  !! n(nen, ngp), dn(2, nen, ngp), w(ngp) (parent weights, sum 4)
+  subroutine iga_shape_data(p, c1e, c2e, wl, ngauss, shp)
+    integer, intent(in) :: p(2), ngauss(2)
+    real(dp), intent(in) :: c1e(:,:), c2e(:,:), wl(:)
+    type(elem_shape_t), intent(inout) :: shp
+    real(dp) :: x1(ngauss(1)), w1(ngauss(1)), x2(ngauss(2)), w2(ngauss(2))
+    integer :: nen, g1, g2, g
+    nen = (p(1) + 1)*(p(2) + 1)
+    call iga_gauss_legendre(ngauss(1), x1, w1)
+    call iga_gauss_legendre(ngauss(2), x2, w2)
+    shp%nen = nen
+    shp%ngp = ngauss(1)*ngauss(2)
+    if (allocated(shp%n)) deallocate(shp%n)
+    if (allocated(shp%dn)) deallocate(shp%dn)
+    if (allocated(shp%w)) deallocate(shp%w)
+    allocate(shp%n(nen, shp%ngp), shp%dn(2, nen, shp%ngp), shp%w(shp%ngp))
+    g = 0
+    do g2 = 1, ngauss(2)
+      do g1 = 1, ngauss(1)
+        g = g + 1
+        call iga_basis_at(p, c1e, c2e, wl, [x1(g1), x2(g2)], shp%n(:, g), shp%dn(:, :, g))
+        shp%w(g) = w1(g1)*w2(g2)
+      end do
+    end do
+  end subroutine iga_shape_data
+
+  !> NURBS basis of one element at parent coordinates xi(2) in [-1, 1]^2.
+  !! @param p degrees (2); @param c1e (p1+1, p1+1); @param c2e (p2+1, p2+1);
+  !! @param wl weights (nen), direction 1 fastest; @param xi parent coordinates (2);
+  !! @param r R_A (nen); @param dr dR_A/d(xi~, eta~) (2, nen)
+  pure subroutine iga_basis_at(p, c1e, c2e, wl, xi, r, dr)
+    integer, intent(in) :: p(2)
+    real(dp), intent(in) :: c1e(:,:), c2e(:,:), wl(:), xi(2)
+    real(dp), intent(out) :: r(:), dr(:,:)
+    real(dp) :: b1(p(1)+1), db1(p(1)+1), b2(p(2)+1), db2(p(2)+1)
+    real(dp) :: n1(p(1)+1), dn1(p(1)+1), n2(p(2)+1), dn2(p(2)+1)
+    real(dp) :: ww, dw(2), nn, dnn(2)
+    integer :: a1, a2, k
+    call bernstein(p(1), 0.5_dp*(xi(1) + 1.0_dp), b1, db1)
+    call bernstein(p(2), 0.5_dp*(xi(2) + 1.0_dp), b2, db2)
+    ! B-splines on the span; d/dxi~ = (1/2) d/dt
+    n1 = matmul(c1e, b1)
+    dn1 = 0.5_dp*matmul(c1e, db1)
+    n2 = matmul(c2e, b2)
+    dn2 = 0.5_dp*matmul(c2e, db2)
+    ww = 0.0_dp
+    dw = 0.0_dp
+    k = 0
+    do a2 = 1, p(2) + 1
+      do a1 = 1, p(1) + 1
+        k = k + 1
+        r(k) = wl(k)*n1(a1)*n2(a2)
+        dr(1, k) = wl(k)*dn1(a1)*n2(a2)
+        dr(2, k) = wl(k)*n1(a1)*dn2(a2)
+        ww = ww + r(k)
+        dw = dw + dr(:, k)
+      end do
+    end do
+    do k = 1, (p(1) + 1)*(p(2) + 1)
+      nn = r(k)
+      dnn = dr(:, k)
+      r(k) = nn/ww
+      dr(:, k) = (dnn*ww - nn*dw)/ww**2
+    end do
+  end subroutine iga_basis_at
+
+  !> Gauss-Legendre points and weights on [-1, 1] (Newton on the Legendre recurrence).
+  !! @param n number of points (>= 1); @param x abscissae (n), increasing; @param w (n)
+  pure subroutine iga_gauss_legendre(n, x, w)
+    integer, intent(in) :: n
+    real(dp), intent(out) :: x(n), w(n)
+    real(dp) :: z, z1, p0, p1, p2, dp_
+    integer :: i, j, it
+    do i = 1, (n + 1)/2
+      z = cos(pi*(real(i, dp) - 0.25_dp)/(real(n, dp) + 0.5_dp))
+      do it = 1, 100
+        p1 = 1.0_dp
+        p2 = 0.0_dp
+        do j = 1, n
+          p0 = p2
+          p2 = p1
+          p1 = (real(2*j - 1, dp)*z*p2 - real(j - 1, dp)*p0)/real(j, dp)
+        end do
+        ! p1 = P_n(z), p2 = P_{n-1}(z)
+        dp_ = real(n, dp)*(z*p1 - p2)/(z*z - 1.0_dp)
+        z1 = z
+        z = z1 - p1/dp_
+        if (abs(z - z1) <= 1.0e-15_dp) exit
+      end do
+      x(i) = -z
+      x(n+1-i) = z
+      w(i) = 2.0_dp/((1.0_dp - z*z)*dp_*dp_)
+      w(n+1-i) = w(i)
+    end do
+    if (mod(n, 2) == 1) x((n + 1)/2) = 0.0_dp
+  end subroutine iga_gauss_legendre
+end module ictus_elements_iga

@@ -1,0 +1,170 @@
+!> 2D isoparametric solid: small-strain linear elasticity, 2 dof per node (x1, y1, x2, y2, ...).
+!!
+!! Every routine takes the shape data of the element (elem_shape_t: N and dN/d(xi, eta) at the
+!! quadrature points, parent weights), so the same kernels serve Q4/Q8/Q9 and Bezier-extracted
+!! NURBS spans. Strains are (eps_xx, eps_yy, gamma_xy) with engineering shear.
+module ictus_elements_solid2d
+  use ictus_core_kinds, only: dp
+  use ictus_elements_types, only: elem_shape_t
+  implicit none
+  private
+  public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume
+
+contains
+
+  !> Jacobian determinant and Cartesian derivatives dN/dx at quadrature point g.
+  !! J(i, j) = d x_j / d xi_i; dnx(2, nen) = J^{-1} dN/dxi. dnx is not set when detj <= 0.
+  pure subroutine jacobian(nen, shp, xl, g, detj, dnx)
+    integer, intent(in) :: nen, g
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen)
+    real(dp), intent(out) :: detj, dnx(2, nen)
+    real(dp) :: jac(2, 2), jinv(2, 2)
+    jac = matmul(shp%dn(:, :, g), transpose(xl))
+    detj = jac(1, 1)*jac(2, 2) - jac(1, 2)*jac(2, 1)
+    if (detj <= 0.0_dp) then
+      dnx = 0.0_dp
+      return
+    end if
+    jinv(1, 1) = jac(2, 2)/detj
+    jinv(2, 2) = jac(1, 1)/detj
+    jinv(1, 2) = -jac(1, 2)/detj
+    jinv(2, 1) = -jac(2, 1)/detj
+    dnx = matmul(jinv, shp%dn(:, :, g))
+  end subroutine jacobian
+
+  !> Strain-displacement matrix b(3, 2*nen) from Cartesian derivatives dnx(2, nen).
+  pure subroutine bmatrix(nen, dnx, b)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: dnx(2, nen)
+    real(dp), intent(out) :: b(3, 2*nen)
+    integer :: a
+    b = 0.0_dp
+    do a = 1, nen
+      b(1, 2*a - 1) = dnx(1, a)
+      b(2, 2*a) = dnx(2, a)
+      b(3, 2*a - 1) = dnx(2, a)
+      b(3, 2*a) = dnx(1, a)
+    end do
+  end subroutine bmatrix
+
+  !> Element stiffness ke = sum_g B^T D B det J w_g thick.
+  !! nen: nodes; shp: shape data (shp%nen = nen); xl(2, nen): node coordinates; d(3, 3):
+  !! constitutive matrix; thick: thickness; ke(2*nen, 2*nen): stiffness, dof order x1, y1, ...;
+  !! ierr: 0, or the first quadrature point with det J <= 0 (ke is then incomplete).
+  pure subroutine solid2d_stiffness(nen, shp, xl, d, thick, ke, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), d(3, 3), thick
+    real(dp), intent(out) :: ke(2*nen, 2*nen)
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), b(3, 2*nen), db(3, 2*nen), detj
+    integer :: g
+    ke = 0.0_dp
+    ierr = 0
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx)
+      if (detj <= 0.0_dp) then
+        ierr = g
+        return
+      end if
+      call bmatrix(nen, dnx, b)
+      db = matmul(d, b)*(detj*shp%w(g)*thick)
+      ke = ke + matmul(transpose(b), db)
+    end do
+  end subroutine solid2d_stiffness
+
+  !> Scalar consistent mass me(A, B) = int rho N_A N_B thick dA (the same for x and y) and the
+  !! element mass mass_e = int rho thick dA, both with the quadrature rule of shp.
+  !! nen; shp; xl(2, nen); rho: density; thick: thickness; me(nen, nen); mass_e;
+  !! ierr: 0, or the first quadrature point with det J <= 0.
+  pure subroutine solid2d_mass(nen, shp, xl, rho, thick, me, mass_e, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), rho, thick
+    real(dp), intent(out) :: me(nen, nen), mass_e
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), detj, f
+    integer :: g, a
+    me = 0.0_dp
+    mass_e = 0.0_dp
+    ierr = 0
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx)
+      if (detj <= 0.0_dp) then
+        ierr = g
+        return
+      end if
+      f = rho*thick*detj*shp%w(g)
+      mass_e = mass_e + f
+      do a = 1, nen
+        me(:, a) = me(:, a) + f*shp%n(a, g)*shp%n(:, g)
+      end do
+    end do
+  end subroutine solid2d_mass
+
+  !> Stresses sig = D B u at the quadrature points of shp.
+  !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; d(3, 3); sig(3, shp%ngp):
+  !! (sxx, syy, sxy) per point; ierr: 0, or the first point with det J <= 0.
+  pure subroutine solid2d_stress(nen, shp, xl, ul, d, sig, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), ul(2, nen), d(3, 3)
+    real(dp), intent(out) :: sig(3, shp%ngp)
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), detj, eps(3), grad(2, 2)
+    integer :: g
+    sig = 0.0_dp
+    ierr = 0
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx)
+      if (detj <= 0.0_dp) then
+        ierr = g
+        return
+      end if
+      ! grad(i, j) = d u_i / d x_j
+      grad = matmul(ul, transpose(dnx))
+      eps(1) = grad(1, 1)
+      eps(2) = grad(2, 2)
+      eps(3) = grad(1, 2) + grad(2, 1)
+      sig(:, g) = matmul(d, eps)
+    end do
+  end subroutine solid2d_stress
+
+  !> Smallest Jacobian determinant over the quadrature points and where it occurs.
+  !! nen; shp; xl(2, nen); detj_min: the minimum det J; igp: its quadrature point.
+  pure subroutine solid2d_min_detj(nen, shp, xl, detj_min, igp)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen)
+    real(dp), intent(out) :: detj_min
+    integer, intent(out) :: igp
+    real(dp) :: dnx(2, nen), detj
+    integer :: g
+    detj_min = huge(1.0_dp)
+    igp = 0
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx)
+      if (detj < detj_min) then
+        detj_min = detj
+        igp = g
+      end if
+    end do
+  end subroutine solid2d_min_detj
+
+  !> Element volume: area times thickness, sum_g det J w_g thick (signed: an inverted element
+  !! gives a negative contribution). nen; shp; xl(2, nen); thick; vol.
+  pure subroutine solid2d_volume(nen, shp, xl, thick, vol)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), thick
+    real(dp), intent(out) :: vol
+    real(dp) :: jac(2, 2)
+    integer :: g
+    vol = 0.0_dp
+    do g = 1, shp%ngp
+      jac = matmul(shp%dn(:, :, g), transpose(xl))
+      vol = vol + (jac(1, 1)*jac(2, 2) - jac(1, 2)*jac(2, 1))*shp%w(g)*thick
+    end do
+  end subroutine solid2d_volume
+end module ictus_elements_solid2d
