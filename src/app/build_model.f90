@@ -1,0 +1,512 @@
+!> Turns the deck records into the model: global numbering of FE nodes and control points,
+!! one element list, refined patches, resolved sets, conditions, mass and damping choices.
+!!
+!! Every problem that the deck reader could not see on its own (an element-set of the wrong
+!! element type for TYPE=ALPHA, a set resolving to nothing, ...) is reported with the deck
+!! location through `input_error`; the caller checks `error_count()`.
+module ictus_app_build_model
+  use ictus_core_kinds, only: dp
+  use ictus_core_errors, only: input_error, warning
+  use ictus_core_strings, only: str, upper
+  use ictus_geometry_sides, only: SIDE_NONE
+  use ictus_geometry_patch, only: patch_elevate, patch_refine, patch_build_elements, &
+      patch_side_points
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA, etype_name
+  use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
+  use ictus_solver_model, only: model_t
+  use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
+      OP_REFINE, ANALYSIS_PLANE_STRAIN
+  use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
+  implicit none
+  private
+  public :: build_model, element_where, resolve_node_set, resolve_elem_set, patch_index
+
+  !> Where each model element was defined (for messages), filled by build_model.
+  type :: origin_t
+    character(len=where_len), allocatable :: where(:)
+  end type origin_t
+  type(origin_t) :: origin
+
+contains
+
+  !> Deck location ("file:line" or "patch NAME, element k") of model element e.
+  function element_where(e) result(w)
+    integer, intent(in) :: e
+    character(len=:), allocatable :: w
+    w = 'element'
+    if (allocated(origin%where)) then
+      if (e >= 1 .and. e <= size(origin%where)) w = trim(origin%where(e))
+    end if
+  end function element_where
+
+  !> Builds `model` from `deck`. Problems are reported through input_error.
+  subroutine build_model(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(out) :: model
+    type(id_map_t) :: node_map
+    integer :: nfe
+    model%title = ''
+    if (allocated(deck%title)) model%title = deck%title
+    model%plane_strain = deck%analysis == ANALYSIS_PLANE_STRAIN
+    model%thickness = deck%thickness
+    call build_materials(deck, model)
+    call build_patches(deck, model)
+    call build_nodes(deck, model, node_map, nfe)
+    call build_elements(deck, model, node_map)
+    call build_conditions(deck, model)
+    call build_mass_damping(deck, model)
+    if (deck%has_step) then
+      model%dt = deck%step%dt
+      model%t_end = deck%step%t_end
+      model%safety = deck%step%safety
+      model%history_every = deck%step%history_every
+      model%field_every = deck%step%field_every
+      if (deck%step%restart_every > 0) call input_error(deck%step%where, &
+          '*RESTART: checkpoints are not implemented in this version of ictus')
+    end if
+    if (deck%n_pairs > 0) call input_error(deck%pairs(1)%where, &
+        '*CONTACT PAIR: contact is not implemented in this version of ictus')
+    if (deck%n_walls > 0) call input_error(deck%walls(1)%where, &
+        '*RIGID WALL: contact is not implemented in this version of ictus')
+    if (model%nel == 0) call input_error(deck%path, &
+        'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')
+  end subroutine build_model
+
+  subroutine build_materials(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    integer :: i
+    model%nmat = deck%n_materials
+    allocate(model%mat_name(model%nmat), model%young(model%nmat), &
+        model%poisson(model%nmat), model%density(model%nmat))
+    do i = 1, model%nmat
+      model%mat_name(i) = deck%materials(i)%name
+      model%young(i) = deck%materials(i)%e
+      model%poisson(i) = deck%materials(i)%nu
+      model%density(i) = deck%materials(i)%rho
+    end do
+  end subroutine build_materials
+
+  !> Index of material `name`, 0 when undefined.
+  integer function material_index(model, name)
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name
+    integer :: i
+    material_index = 0
+    do i = 1, model%nmat
+      if (upper(trim(model%mat_name(i))) == upper(trim(name))) then
+        material_index = i
+        return
+      end if
+    end do
+  end function material_index
+
+  !> Reads the patches, applies *ELEVATE and *REFINE in deck order, builds their elements.
+  subroutine build_patches(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    integer :: ip, k, j
+    model%npatch = deck%n_patches
+    allocate(model%patches(model%npatch), model%patch_offset(model%npatch))
+    do ip = 1, model%npatch
+      associate (pin => deck%patches(ip))
+        call model%patches(ip)%init(pin%name, pin%degree, pin%size, pin%knots1, pin%knots2, &
+            pin%cp)
+      end associate
+    end do
+    do k = 1, deck%n_patch_ops
+      j = patch_index(model, deck%patch_ops(k)%patch)
+      if (j == 0) cycle
+      select case (deck%patch_ops(k)%kind)
+      case (OP_ELEVATE)
+        if (any(deck%patch_ops(k)%values < model%patches(j)%p)) then
+          call input_error(deck%patch_ops(k)%where, '*ELEVATE: DEGREE must not be below '// &
+              'the current degree '//str(model%patches(j)%p(1))//','//str(model%patches(j)%p(2)))
+          cycle
+        end if
+        call patch_elevate(model%patches(j), deck%patch_ops(k)%values)
+      case (OP_REFINE)
+        call patch_refine(model%patches(j), deck%patch_ops(k)%values)
+      end select
+    end do
+    do ip = 1, model%npatch
+      call patch_build_elements(model%patches(ip))
+    end do
+  end subroutine build_patches
+
+  !> Index of patch `name`, 0 when undefined.
+  integer function patch_index(model, name)
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name
+    integer :: i
+    patch_index = 0
+    do i = 1, model%npatch
+      if (upper(trim(model%patches(i)%name)) == upper(trim(name))) then
+        patch_index = i
+        return
+      end if
+    end do
+  end function patch_index
+
+  !> Global numbering: FE nodes in deck order, then each patch's control points (direction 1
+  !! fastest). Control points get the ids max(FE id) + 1, + 2, ...
+  subroutine build_nodes(deck, model, node_map, nfe)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    type(id_map_t), intent(out) :: node_map
+    integer, intent(out) :: nfe
+    integer :: ncp, ip, k, n, next_id
+    nfe = deck%n_nodes
+    ncp = 0
+    do ip = 1, model%npatch
+      ncp = ncp + model%patches(ip)%n(1)*model%patches(ip)%n(2)
+    end do
+    model%nn = nfe + ncp
+    allocate(model%x0(2, model%nn), model%weight(model%nn), model%node_id(model%nn))
+    if (nfe > 0) then
+      model%x0(:, 1:nfe) = deck%node_x(:, 1:nfe)
+      model%node_id(1:nfe) = deck%node_ids(1:nfe)
+      next_id = maxval(deck%node_ids(1:nfe)) + 1
+    else
+      next_id = 1
+    end if
+    model%weight = 1.0_dp
+    n = nfe
+    do ip = 1, model%npatch
+      model%patch_offset(ip) = n
+      associate (pt => model%patches(ip))
+        do k = 1, pt%n(1)*pt%n(2)
+          n = n + 1
+          model%x0(:, n) = pt%cp(1:2, k)
+          model%weight(n) = pt%cp(3, k)
+          model%node_id(n) = next_id
+          next_id = next_id + 1
+        end do
+      end associate
+    end do
+    call id_map_init(node_map, model%node_id)
+  end subroutine build_nodes
+
+  !> One element list: FE blocks in deck order, then the spans of each patch.
+  subroutine build_elements(deck, model, node_map)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    type(id_map_t), intent(in) :: node_map
+    integer :: nel, ib, k, e, a, ip, ie, nen_max, m, g
+    nel = 0
+    nen_max = 0
+    do ib = 1, deck%n_blocks
+      nel = nel + size(deck%blocks(ib)%ids)
+      nen_max = max(nen_max, deck%blocks(ib)%nen)
+    end do
+    do ip = 1, model%npatch
+      nel = nel + model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
+      nen_max = max(nen_max, model%patches(ip)%nen)
+    end do
+    model%nel = nel
+    model%nen_max = nen_max
+    allocate(model%etype(nel), model%nen(nel), model%conn(nen_max, nel), model%mat(nel), &
+        model%gauss(2, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel))
+    allocate(origin%where(nel))
+    model%conn = 0
+    e = 0
+    do ib = 1, deck%n_blocks
+      associate (b => deck%blocks(ib))
+        m = material_index(model, b%material)
+        if (m == 0) call input_error(b%where, '*ELEMENT: MATERIAL='//trim(b%material)// &
+            ' is not defined by a *MATERIAL card')
+        g = b%gauss
+        if (g == 0) then
+          g = 3
+          if (b%etype == ETYPE_Q4) g = 2
+        end if
+        do k = 1, size(b%ids)
+          e = e + 1
+          model%etype(e) = b%etype
+          model%nen(e) = b%nen
+          model%mat(e) = max(m, 1)
+          model%gauss(:, e) = g
+          model%elem_id(e) = b%ids(k)
+          model%patch(e) = 0
+          model%patch_elem(e) = 0
+          write(origin%where(e), '(a,":",i0)') trim(b%file), b%line(k)
+          do a = 1, b%nen
+            model%conn(a, e) = id_map_find(node_map, b%conn(a, k))
+            if (model%conn(a, e) == 0) then
+              call input_error(origin%where(e), '*ELEMENT: element '//str(b%ids(k))// &
+                  ' refers to node '//str(b%conn(a, k))//', which no *NODE card defines')
+              model%conn(a, e) = 1
+            end if
+          end do
+        end do
+      end associate
+    end do
+    do ip = 1, model%npatch
+      m = material_index(model, deck%patches(ip)%material)
+      if (m == 0) call input_error(deck%patches(ip)%where, '*PATCH: MATERIAL='// &
+          trim(deck%patches(ip)%material)//' is not defined by a *MATERIAL card')
+      associate (pt => model%patches(ip))
+        do ie = 1, pt%nel(1)*pt%nel(2)
+          e = e + 1
+          model%etype(e) = ETYPE_IGA
+          model%nen(e) = pt%nen
+          model%mat(e) = max(m, 1)
+          model%gauss(:, e) = pt%p + 1
+          model%elem_id(e) = ie
+          model%patch(e) = ip
+          model%patch_elem(e) = ie
+          model%conn(1:pt%nen, e) = model%patch_offset(ip) + pt%ien(:, ie)
+          write(origin%where(e), '(a,i0)') 'patch '//trim(pt%name)//', element ', ie
+        end do
+      end associate
+    end do
+  end subroutine build_elements
+
+  !> Elements of element set `name` (an ELSET, or a patch name) into `mask`.
+  recursive subroutine resolve_elem_set(deck, model, name, where, mask, depth)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name, where
+    logical, intent(inout) :: mask(:)
+    integer, intent(in) :: depth
+    integer :: i, j, e, ip, ib, k
+    logical :: found
+    found = .false.
+    if (depth > 20) then
+      call input_error(where, 'set '//trim(name)//' refers to itself (a cycle of set names)')
+      return
+    end if
+    ip = patch_index(model, name)
+    if (ip > 0) then
+      found = .true.
+      where (model%patch == ip) mask = .true.
+    end if
+    e = 0
+    do ib = 1, deck%n_blocks
+      do k = 1, size(deck%blocks(ib)%ids)
+        e = e + 1
+        if (upper(trim(deck%blocks(ib)%elset)) == upper(trim(name)) .and. &
+            len_trim(deck%blocks(ib)%elset) > 0) then
+          mask(e) = .true.
+          found = .true.
+        end if
+      end do
+    end do
+    do i = 1, deck%n_sets
+      associate (s => deck%sets(i))
+        if (s%kind /= SET_ELEMENT .or. upper(trim(s%name)) /= upper(trim(name))) cycle
+        found = .true.
+        if (allocated(s%ids)) then
+          do j = 1, size(s%ids)
+            k = 0
+            do e = 1, model%nel
+              if (model%patch(e) == 0 .and. model%elem_id(e) == s%ids(j)) then
+                mask(e) = .true.
+                k = 1
+              end if
+            end do
+            if (k == 0) call input_error(s%where, '*ELSET '//trim(s%name)//': element '// &
+                str(s%ids(j))//' is not defined')
+          end do
+        end if
+        if (allocated(s%refs)) then
+          do j = 1, size(s%refs)
+            call resolve_elem_set(deck, model, s%refs(j), s%ref_where(j), mask, depth + 1)
+          end do
+        end if
+      end associate
+    end do
+    if (.not. found) call input_error(where, 'element set '//trim(name)//' is not defined '// &
+        '(expected an *ELSET, an ELSET= of *ELEMENT, or a patch name)')
+  end subroutine resolve_elem_set
+
+  !> Nodes of node set `name` (an NSET, an element set's nodes, a patch's control points, or a
+  !! node id written as a number) into `mask` (nn).
+  recursive subroutine resolve_node_set(deck, model, name, where, mask, depth)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name, where
+    logical, intent(inout) :: mask(:)
+    integer, intent(in) :: depth
+    integer :: i, j, e, ip, id, ios, n
+    logical :: found
+    logical, allocatable :: emask(:)
+    integer, allocatable :: idx(:)
+    if (depth > 20) then
+      call input_error(where, 'set '//trim(name)//' refers to itself (a cycle of set names)')
+      return
+    end if
+    read(name, *, iostat=ios) id
+    if (ios == 0 .and. verify(trim(name), '0123456789+-') == 0) then
+      call mark_node_id(model, id, where, mask)
+      return
+    end if
+    found = .false.
+    do i = 1, deck%n_sets
+      associate (s => deck%sets(i))
+        if (s%kind /= SET_NODE .or. upper(trim(s%name)) /= upper(trim(name))) cycle
+        found = .true.
+        if (allocated(s%ids)) then
+          do j = 1, size(s%ids)
+            call mark_node_id(model, s%ids(j), s%where, mask)
+          end do
+        end if
+        if (allocated(s%refs)) then
+          do j = 1, size(s%refs)
+            call resolve_node_set(deck, model, s%refs(j), s%ref_where(j), mask, depth + 1)
+          end do
+        end if
+        if (s%side /= SIDE_NONE) then
+          ip = patch_index(model, s%patch)
+          if (ip == 0) then
+            call input_error(s%where, '*NSET: PATCH='//trim(s%patch)//' is not defined')
+          else
+            allocate(idx(2*sum(model%patches(ip)%n)))
+            call patch_side_points(model%patches(ip), s%side, idx, n)
+            mask(model%patch_offset(ip) + idx(1:n)) = .true.
+            deallocate(idx)
+          end if
+        end if
+      end associate
+    end do
+    if (.not. found .and. has_elem_set(deck, model, name)) then
+      found = .true.
+      allocate(emask(model%nel), source=.false.)
+      call resolve_elem_set(deck, model, name, where, emask, depth + 1)
+      do e = 1, model%nel
+        if (emask(e)) mask(model%conn(1:model%nen(e), e)) = .true.
+      end do
+    end if
+    if (.not. found) call input_error(where, 'node set '//trim(name)//' is not defined '// &
+        '(expected an *NSET, an element set, a patch name or a node id)')
+  end subroutine resolve_node_set
+
+  !> True when `name` names an element set (ELSET card, ELSET= of *ELEMENT, or a patch).
+  logical function has_elem_set(deck, model, name)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name
+    integer :: i
+    has_elem_set = patch_index(model, name) > 0
+    do i = 1, deck%n_blocks
+      if (len_trim(deck%blocks(i)%elset) > 0 .and. &
+          upper(trim(deck%blocks(i)%elset)) == upper(trim(name))) has_elem_set = .true.
+    end do
+    do i = 1, deck%n_sets
+      if (deck%sets(i)%kind == SET_ELEMENT .and. &
+          upper(trim(deck%sets(i)%name)) == upper(trim(name))) has_elem_set = .true.
+    end do
+  end function has_elem_set
+
+  subroutine mark_node_id(model, id, where, mask)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: id
+    character(len=*), intent(in) :: where
+    logical, intent(inout) :: mask(:)
+    integer :: i
+    do i = 1, model%nn
+      if (model%node_id(i) == id) then
+        mask(i) = .true.
+        return
+      end if
+    end do
+    call input_error(where, 'node '//str(id)//' is not defined')
+  end subroutine mark_node_id
+
+  !> *BOUNDARY and *INITIAL CONDITIONS.
+  subroutine build_conditions(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    logical, allocatable :: mask(:)
+    integer :: k, d
+    allocate(model%fixed(2, model%nn), source=.false.)
+    allocate(model%u_fixed(2, model%nn), model%v0(2, model%nn), source=0.0_dp)
+    allocate(mask(model%nn))
+    do k = 1, deck%n_boundaries
+      associate (b => deck%boundaries(k))
+        mask = .false.
+        call resolve_node_set(deck, model, b%target, b%where, mask, 0)
+        if (.not. any(mask)) call warning(b%where, '*BOUNDARY: set '//trim(b%target)// &
+            ' holds no nodes')
+        do d = max(b%first_dof, 1), min(b%last_dof, 2)
+          where (mask)
+            model%fixed(d, :) = .true.
+            model%u_fixed(d, :) = b%value
+          end where
+        end do
+      end associate
+    end do
+    do k = 1, deck%n_velocities
+      associate (v => deck%velocities(k))
+        mask = .false.
+        call resolve_node_set(deck, model, v%target, v%where, mask, 0)
+        if (v%dof >= 1 .and. v%dof <= 2) then
+          where (mask) model%v0(v%dof, :) = v%value
+        end if
+      end associate
+    end do
+    where (model%fixed) model%v0 = 0.0_dp
+  end subroutine build_conditions
+
+  !> *MASS (default HRZ everywhere) and *DAMPING, applied in deck order.
+  subroutine build_mass_damping(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    logical, allocatable :: mask(:)
+    integer :: k, e
+    allocate(model%mass_kind(model%nel), model%hrz_rule(model%nel))
+    allocate(model%mass_alpha(model%nel), model%damping(model%nel), source=0.0_dp)
+    model%mass_kind = MASS_HRZ
+    model%hrz_rule = HRZ_FULL
+    allocate(mask(model%nel))
+    do k = 1, deck%n_masses
+      associate (m => deck%masses(k))
+        call body_mask(deck, model, m%elset, m%patch, m%where, mask)
+        if (m%kind == MASS_ALPHA) then
+          do e = 1, model%nel
+            if (mask(e) .and. model%etype(e) /= ETYPE_Q8) then
+              call input_error(m%where, '*MASS, TYPE=ALPHA applies to 8-node serendipity '// &
+                  'elements only, but element '//str(model%elem_id(e))//' is '// &
+                  etype_name(model%etype(e)))
+              exit
+            end if
+          end do
+        end if
+        where (mask)
+          model%mass_kind = m%kind
+          model%mass_alpha = m%alpha
+          model%hrz_rule = m%hrz_rule
+        end where
+      end associate
+    end do
+    do k = 1, deck%n_dampings
+      associate (d => deck%dampings(k))
+        call body_mask(deck, model, d%elset, d%patch, d%where, mask)
+        where (mask) model%damping = d%alpha
+      end associate
+    end do
+  end subroutine build_mass_damping
+
+  !> Elements selected by ELSET= or PATCH= (all when both are empty).
+  subroutine body_mask(deck, model, elset, patch, where, mask)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: elset, patch, where
+    logical, intent(out) :: mask(:)
+    integer :: ip
+    if (len_trim(elset) == 0 .and. len_trim(patch) == 0) then
+      mask = .true.
+      return
+    end if
+    mask = .false.
+    if (len_trim(elset) > 0) call resolve_elem_set(deck, model, elset, where, mask, 0)
+    if (len_trim(patch) > 0) then
+      ip = patch_index(model, patch)
+      if (ip == 0) then
+        call input_error(where, 'PATCH='//trim(patch)//' is not defined by a *PATCH card')
+      else
+        where (model%patch == ip) mask = .true.
+      end if
+    end if
+  end subroutine body_mask
+end module ictus_app_build_model

@@ -1,0 +1,297 @@
+!> The run: deck -> model -> operators -> time step -> time loop with output.
+!!
+!! Order of a run: read and check the deck (exit 1 on any problem, before anything is
+!! written), build the model, assemble K and M once, estimate omega_max and choose or check
+!! dt, open the results file, loop over the steps writing history and field records, close.
+module ictus_app_driver
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ictus_core_kinds, only: dp
+  use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
+  use ictus_core_logger, only: log_info, log_verbose, log_is, LOG_VERBOSE_LEVEL
+  use ictus_core_strings, only: str, join_ids
+  use ictus_core_timer, only: wall_time
+  use ictus_parallel_env, only: env_size
+  use ictus_elements_types, only: etype_name
+  use ictus_mass_types, only: mass_name
+  use ictus_solver_model, only: model_t
+  use ictus_solver_assemble, only: operators_t, assemble_operators
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init
+  use ictus_solver_timestep, only: omega_max_power
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_io_deck_types, only: deck_t
+  use ictus_io_deck_reader, only: read_deck
+  use ictus_io_deck_echo, only: deck_echo
+  use ictus_io_results, only: results_t, results_open, results_history, results_field, &
+      results_close, history_record_t
+  use ictus_app_build_model, only: build_model, element_where
+  implicit none
+  private
+  public :: run_options_t, driver_run
+
+  !> What the command line asked for.
+  type :: run_options_t
+    character(len=:), allocatable :: deck_path
+    character(len=:), allocatable :: out_path
+    !> Read, build and check the model, print the summary and stop.
+    logical :: check_only = .false.
+  end type run_options_t
+
+  !> Exit status of a run-time failure.
+  integer, parameter :: EXIT_RUNTIME = 2
+
+contains
+
+  !> Runs the deck named in `opt`. Returns normally only on success.
+  subroutine driver_run(opt)
+    type(run_options_t), intent(in) :: opt
+    type(deck_t) :: deck
+    type(model_t) :: model
+    type(operators_t) :: ops
+    type(mass_op_t) :: mop
+    real(dp) :: omega, dt_crit, dt
+    integer :: iters
+    call read_deck(opt%deck_path, deck)
+    if (error_count() > 0) call input_failure()
+    call build_model(deck, model)
+    if (error_count() > 0) call input_failure()
+    call check_operators(model, ops)
+    if (error_count() > 0) call input_failure()
+    call mass_op_init(mop, model%nn, ops%consistent, ops%m, ops%m_diag, model%fixed)
+    call omega_max_power(ops%k, mop, model%node_id, omega, iters, 1.0e-6_dp, 2000)
+    dt_crit = huge(1.0_dp)
+    if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
+    call log_info('stability: omega_max = '//str(omega)//' (power iteration, '//str(iters)// &
+        ' iterations), critical time step 2/omega_max = '//str(dt_crit))
+    if (model%dt > 0.0_dp) then
+      dt = model%dt
+      if (dt > dt_crit) then
+        call input_error(deck%step%where, '*DYNAMIC, EXPLICIT: the time step '//str(dt)// &
+            ' exceeds the stable limit 2/omega_max = '//str(dt_crit)//' (omega_max = '// &
+            str(omega)//'); use a smaller step, or 0 for automatic')
+        call input_failure()
+      end if
+    else
+      dt = model%safety*dt_crit
+      call log_info('automatic time step: '//str(model%safety)//' * 2/omega_max = '//str(dt))
+    end if
+    call log_summary(model, ops, dt)
+    if (opt%check_only) then
+      call log_info('check: the deck is valid; no results written')
+      return
+    end if
+    call log_info('processed deck:')
+    call log_info(deck_echo(deck, .false.))
+    call time_loop(opt, deck, model, ops, mop, dt, omega)
+  end subroutine driver_run
+
+  !> Ends a run whose input is wrong: exit status 1, nothing written.
+  subroutine input_failure()
+    call log_info('ictus: '//str(error_count())//' problem(s) in the input; nothing was run')
+    call terminate(1)
+  end subroutine input_failure
+
+  !> Assembles the operators and reports inverted elements and non-positive nodal masses.
+  subroutine check_operators(model, ops)
+    type(model_t), intent(in) :: model
+    type(operators_t), intent(out) :: ops
+    integer, allocatable :: bad_jac(:), bad_mass(:)
+    integer :: nbj, nbm, k, e
+    call assemble_operators(model, ops, bad_jac, nbj, bad_mass, nbm)
+    do k = 1, min(nbj, 20)
+      e = bad_jac(k)
+      call input_error(element_where(e), etype_name(model%etype(e))//' element '// &
+          str(model%elem_id(e))//' has a non-positive Jacobian determinant (inverted or '// &
+          'degenerate; corners must run counter-clockwise)')
+    end do
+    if (nbj > 20) call input_error('', str(nbj - 20)//' more elements with a non-positive '// &
+        'Jacobian determinant')
+    if (nbm > 0) then
+      call input_error('*MASS', 'the lumped mass is not positive at nodes '// &
+          join_ids(model%node_id(bad_mass(1:nbm)), 8)//' (mass type '// &
+          mass_name(model%mass_kind(first_element_of(model, bad_mass(1))))// &
+          '): row-sum lumping of 8-node serendipity elements gives their corner nodes a '// &
+          'negative mass (-1/12 of the element mass on a square). Use TYPE=HRZ, '// &
+          'TYPE=ALPHA or TYPE=CONSISTENT for these elements')
+    end if
+  end subroutine check_operators
+
+  !> An element that holds node i.
+  integer function first_element_of(model, i)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: i
+    integer :: e
+    first_element_of = 1
+    do e = 1, model%nel
+      if (any(model%conn(1:model%nen(e), e) == i)) then
+        first_element_of = e
+        return
+      end if
+    end do
+  end function first_element_of
+
+  subroutine log_summary(model, ops, dt)
+    type(model_t), intent(in) :: model
+    type(operators_t), intent(in) :: ops
+    real(dp), intent(in) :: dt
+    integer :: nsteps
+    nsteps = steps_for(model%t_end, dt)
+    call log_info('model: '//str(model%nn)//' nodes/control points, '//str(model%nel)// &
+        ' elements, '//str(model%npatch)//' patches, '//str(count(model%fixed))// &
+        ' fixed dofs, total mass '//str(ops%total_mass))
+    if (ops%consistent) then
+      call log_info('mass matrix: consistent (conjugate-gradient solve every step)')
+    else
+      call log_info('mass matrix: lumped (diagonal)')
+    end if
+    call log_info('step: dt = '//str(dt)//', t_end = '//str(model%t_end)//', '// &
+        str(nsteps)//' steps')
+  end subroutine log_summary
+
+  !> Number of steps of size dt to reach t_end (the last one ends at or just after t_end).
+  pure integer function steps_for(t_end, dt)
+    real(dp), intent(in) :: t_end, dt
+    steps_for = max(1, ceiling(t_end/dt*(1.0_dp - 1.0e-12_dp)))
+  end function steps_for
+
+  !> Default results path: the deck's name with .h5.
+  function default_out(deck_path) result(out)
+    character(len=*), intent(in) :: deck_path
+    character(len=:), allocatable :: out
+    integer :: k, s
+    k = index(deck_path, '.', back=.true.)
+    s = index(deck_path, '/', back=.true.)
+    if (k > s + 1) then
+      out = deck_path(1:k - 1)//'.h5'
+    else
+      out = deck_path//'.h5'
+    end if
+  end function default_out
+
+  !> The time loop with history and field output, progress lines and blow-up detection.
+  subroutine time_loop(opt, deck, model, ops, mop, dt, omega)
+    type(run_options_t), intent(in) :: opt
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(operators_t), intent(in) :: ops
+    type(mass_op_t), intent(inout) :: mop
+    real(dp), intent(in) :: dt, omega
+    type(results_t) :: res
+    type(state_t) :: s
+    type(history_record_t) :: rec
+    character(len=:), allocatable :: out
+    real(dp), allocatable :: alpha(:)
+    real(dp) :: e0, e_total, t0, t_last_print, elapsed
+    integer :: nsteps, n, field_every, print_every
+    logical :: record, field
+    out = default_out(opt%deck_path)
+    if (allocated(opt%out_path)) out = opt%out_path
+    nsteps = steps_for(model%t_end, dt)
+    field_every = model%field_every
+    if (field_every <= 0) field_every = max(1, nsteps/20)
+    print_every = max(1, nsteps/10)
+    allocate(alpha(model%nn), source=0.0_dp)
+    where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
+    call results_open(res, out, model, deck_echo(deck, .true.), env_size(), ops%m_diag, &
+        omega, dt)
+    call log_info('results: '//out)
+    call state_init(s, ops%k, mop, model%u_fixed, model%v0, alpha, ops%m_pos, dt)
+    if (s%ierr /= 0) call runtime_failure(res, s, model, 'the consistent-mass solve did '// &
+        'not converge at the start')
+    e0 = 0.0_dp
+    t0 = wall_time()
+    t_last_print = t0
+    do n = 0, nsteps
+      record = mod(n, model%history_every) == 0 .or. n == nsteps
+      field = mod(n, field_every) == 0 .or. n == nsteps
+      call step_predict(s, ops%k, mop, record .or. field)
+      if (s%ierr /= 0) call runtime_failure(res, s, model, 'the consistent-mass solve did '// &
+          'not converge')
+      if (record) then
+        rec = history_record_t(s%t, dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
+        call results_history(res, rec)
+        e_total = s%e_kin + s%e_strain + s%e_contact - s%w_ext
+        if (n == 0) e0 = e_total
+        call check_blowup(res, s, model, e0)
+      end if
+      if (field) call results_field(res, n, s%t, s%u, s%v_mid)
+      if (n == nsteps) exit
+      call step_finish(s)
+      elapsed = wall_time() - t0
+      if (mod(n + 1, print_every) == 0 .or. wall_time() - t_last_print > 10.0_dp) then
+        t_last_print = wall_time()
+        call log_info('step '//str(n + 1)//'/'//str(nsteps)//'  t = '//str(s%t, 5)// &
+            '  dt = '//str(dt, 4)//'  E_total = '//str(s%e_kin + s%e_strain + s%e_contact &
+            - s%w_ext, 8)//'  elapsed '//str(elapsed, 3)//' s  ETA '// &
+            str(elapsed*real(nsteps - n - 1, dp)/real(n + 1, dp), 3)//' s')
+      end if
+    end do
+    call report_energy(s, e0)
+    if (mop%consistent) call log_info('consistent mass: '//str(mop%n_solves)// &
+        ' solves, mean '//str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
+        ' CG iterations per solve')
+    call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps)//' steps')
+    call results_close(res, 'completed')
+  end subroutine time_loop
+
+  !> Energy balance at the end: total = kinetic + strain + contact - external work.
+  subroutine report_energy(s, e0)
+    type(state_t), intent(in) :: s
+    real(dp), intent(in) :: e0
+    real(dp) :: e1, drift
+    e1 = s%e_kin + s%e_strain + s%e_contact - s%w_ext
+    drift = 0.0_dp
+    if (abs(e0) > 0.0_dp) drift = (e1 - e0)/abs(e0)
+    call log_info('energy balance: total at start '//str(e0, 10)//', at end '//str(e1, 10)// &
+        ' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)//', contact '// &
+        str(s%e_contact, 6)//', external work '//str(s%w_ext, 6)//'); drift '// &
+        str(drift, 3))
+  end subroutine report_energy
+
+  !> Stops the run (exit 2) when the energies are not finite or have grown without bound.
+  subroutine check_blowup(res, s, model, e0)
+    type(results_t), intent(inout) :: res
+    type(state_t), intent(in) :: s
+    type(model_t), intent(in) :: model
+    real(dp), intent(in) :: e0
+    real(dp) :: e
+    e = s%e_kin + s%e_strain
+    if (.not. ieee_is_finite(e)) then
+      call runtime_failure(res, s, model, 'the solution is not finite (NaN or overflow)')
+    else if (e0 > 0.0_dp .and. e > 1.0e3_dp*e0) then
+      call runtime_failure(res, s, model, 'the solution blows up: kinetic + strain energy '// &
+          str(e)//' is more than 1000 times the initial energy '//str(e0)// &
+          ' (unstable time step?)')
+    end if
+  end subroutine check_blowup
+
+  !> Reports a run-time failure with the step, time and the node with the largest (or a
+  !! non-finite) velocity, closes the results as failed and exits with status 2.
+  subroutine runtime_failure(res, s, model, why)
+    type(results_t), intent(inout) :: res
+    type(state_t), intent(in) :: s
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: why
+    integer :: i, worst
+    real(dp) :: vmax, vi
+    character(len=:), allocatable :: msg
+    worst = 1
+    vmax = -1.0_dp
+    do i = 1, model%nn
+      vi = s%v(1, i)**2 + s%v(2, i)**2
+      if (.not. ieee_is_finite(vi)) then
+        worst = i
+        exit
+      end if
+      if (vi > vmax) then
+        vmax = vi
+        worst = i
+      end if
+    end do
+    msg = 'step '//str(s%step)//', t = '//str(s%t)//': '//why//'; worst at node '// &
+        str(model%node_id(worst))//' ('//str(model%x0(1, worst), 6)//', '// &
+        str(model%x0(2, worst), 6)//')'
+    call results_close(res, 'failed: '//msg)
+    call log_info('results so far: '//res%path)
+    call fatal('run-time failure', msg, EXIT_RUNTIME)
+  end subroutine runtime_failure
+end module ictus_app_driver

@@ -52,19 +52,38 @@ contains
     r = trim(buf)
   end function str_i8
 
-  !> Real number in a compact general format (7 significant digits unless `digits` given).
+  !> Real number with `digits` significant digits (default 7): fixed notation for magnitudes
+  !! in [0.01, 1e5), scientific otherwise.
   pure function str_real(x, digits) result(r)
     real(dp), intent(in) :: x
     integer, intent(in), optional :: digits
     character(len=:), allocatable :: r
     character(len=40) :: buf
-    character(len=20) :: fmt
-    integer :: d
+    character(len=24) :: fmt
+    integer :: d, k
     d = 7
-    if (present(digits)) d = digits
-    write(fmt, '(a,i0,a,i0,a)') '(g', d + 8, '.', d, ')'
-    write(buf, fmt) x
-    r = trim(adjustl(buf))
+    if (present(digits)) d = max(1, digits)
+    if (x == 0.0_dp) then
+      r = '0'
+      return
+    end if
+    if (abs(x) >= 0.01_dp .and. abs(x) < 1.0e5_dp) then
+      k = max(0, d - 1 - floor(log10(abs(x))))
+      write(fmt, '(a,i0,a,i0,a)') '(f', d + k + 4, '.', k, ')'
+      write(buf, fmt) x
+      r = trim(adjustl(buf))
+      ! drop trailing zeros of the fraction (keep one digit after the point)
+      k = len(r)
+      do while (k > 2)
+        if (r(k:k) /= '0' .or. r(k - 1:k - 1) == '.') exit
+        k = k - 1
+      end do
+      r = r(1:k)
+    else
+      write(fmt, '(a,i0,a,i0,a)') '(es', d + 8, '.', d - 1, 'e3)'
+      write(buf, fmt) x
+      r = trim(adjustl(buf))
+    end if
   end function str_real
 
   !> "1, 5, 7 and 3 more" style list of ids for messages.

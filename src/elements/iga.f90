@@ -6,12 +6,13 @@
 !! coordinates (xi~, eta~) in [-1, 1]^2, so the standard solid element routine
 !! (J = sum dR/dxi~ x_A) integrates over the physical span exactly.
 module ictus_elements_iga
-  use ictus_core_kinds, only: dp, pi
+  use ictus_core_kinds, only: dp
   use ictus_geometry_bezier, only: bernstein
   use ictus_elements_types, only: elem_shape_t
+  use ictus_elements_quadrature, only: gauss_legendre
   implicit none
   private
-  public :: iga_shape_data, iga_basis_at, iga_gauss_legendre
+  public :: iga_shape_data, iga_basis_at
 
 contains
 
@@ -28,8 +29,8 @@ contains
     real(dp) :: x1(ngauss(1)), w1(ngauss(1)), x2(ngauss(2)), w2(ngauss(2))
     integer :: nen, g1, g2, g
     nen = (p(1) + 1)*(p(2) + 1)
-    call iga_gauss_legendre(ngauss(1), x1, w1)
-    call iga_gauss_legendre(ngauss(2), x2, w2)
+    call gauss_legendre(ngauss(1), x1, w1)
+    call gauss_legendre(ngauss(2), x2, w2)
     shp%nen = nen
     shp%ngp = ngauss(1)*ngauss(2)
     if (allocated(shp%n)) deallocate(shp%n)
@@ -85,35 +86,4 @@ contains
       dr(:, k) = (dnn*ww - nn*dw)/ww**2
     end do
   end subroutine iga_basis_at
-
-  !> Gauss-Legendre points and weights on [-1, 1] (Newton on the Legendre recurrence).
-  !! @param n number of points (>= 1); @param x abscissae (n), increasing; @param w (n)
-  pure subroutine iga_gauss_legendre(n, x, w)
-    integer, intent(in) :: n
-    real(dp), intent(out) :: x(n), w(n)
-    real(dp) :: z, z1, p0, p1, p2, dp_
-    integer :: i, j, it
-    do i = 1, (n + 1)/2
-      z = cos(pi*(real(i, dp) - 0.25_dp)/(real(n, dp) + 0.5_dp))
-      do it = 1, 100
-        p1 = 1.0_dp
-        p2 = 0.0_dp
-        do j = 1, n
-          p0 = p2
-          p2 = p1
-          p1 = (real(2*j - 1, dp)*z*p2 - real(j - 1, dp)*p0)/real(j, dp)
-        end do
-        ! p1 = P_n(z), p2 = P_{n-1}(z)
-        dp_ = real(n, dp)*(z*p1 - p2)/(z*z - 1.0_dp)
-        z1 = z
-        z = z1 - p1/dp_
-        if (abs(z - z1) <= 1.0e-15_dp) exit
-      end do
-      x(i) = -z
-      x(n+1-i) = z
-      w(i) = 2.0_dp/((1.0_dp - z*z)*dp_*dp_)
-      w(n+1-i) = w(i)
-    end do
-    if (mod(n, 2) == 1) x((n + 1)/2) = 0.0_dp
-  end subroutine iga_gauss_legendre
 end module ictus_elements_iga

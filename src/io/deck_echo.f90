@@ -1,0 +1,420 @@
+!> The processed deck written back as deck text, in canonical form with every default
+!! explicit (for the log, the results file, and the reader's round-trip test).
+!!
+!! Cards come in a fixed order (heading, analysis, materials, nodes, elements, patches,
+!! patch operations, sets, surfaces, conditions, mass, damping, contact, walls, step). Reals
+!! are written with the fewest digits that read back to the identical double. Reading the text
+!! of `deck_echo(deck, full=.true.)` with `read_deck` gives the same records again (locations
+!! apart). Node sets given on *NODE, NSET= are written as *NSET cards; *NSET GENERATE is
+!! written expanded.
+module ictus_io_deck_echo
+  use ictus_core_kinds, only: dp
+  use ictus_core_strings, only: str
+  use ictus_io_deck_types, only: deck_t, set_in_t, ANALYSIS_PLANE_STRESS, etype_name, &
+      SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
+      OP_ELEVATE, CONTACT_NODE_TO_SEGMENT
+  implicit none
+  private
+  public :: deck_echo, real_text
+
+  !> A growing text (lines joined with newlines).
+  type :: text_t
+    character(len=:), allocatable :: s
+    integer :: n = 0
+  end type text_t
+
+  !> Data lines shown per card when full = .false.
+  integer, parameter :: short_lines = 5
+  !> Values per line for knot vectors and set lists.
+  integer, parameter :: per_line = 8
+
+contains
+
+  !> The deck as canonical deck text. With full = .false. the data of *NODE, *ELEMENT,
+  !! *CONTROL POINTS and long sets stops after 5 lines with a comment "** ... N more lines".
+  function deck_echo(deck, full) result(text)
+    type(deck_t), intent(in) :: deck
+    logical, intent(in) :: full
+    character(len=:), allocatable :: text
+    type(text_t) :: t
+
+    allocate(character(len=4096) :: t%s)
+    call put(t, '** ictus: processed deck, every default written out')
+    if (allocated(deck%title)) then
+      if (len_trim(deck%title) > 0) then
+        call put(t, '*HEADING')
+        call put(t, trim(deck%title))
+      end if
+    end if
+    call put(t, '*ANALYSIS, TYPE='//trim(merge('PLANE STRESS', 'PLANE STRAIN', &
+        deck%analysis == ANALYSIS_PLANE_STRESS))//', THICKNESS='//real_text(deck%thickness))
+    call echo_materials(deck, t)
+    call echo_mesh(deck, full, t)
+    call echo_patches(deck, full, t)
+    call echo_sets(deck, full, t)
+    call echo_conditions(deck, t)
+    call echo_step(deck, t)
+    text = t%s(1:t%n)
+  end function deck_echo
+
+  subroutine echo_materials(d, t)
+    type(deck_t), intent(in) :: d
+    type(text_t), intent(inout) :: t
+    integer :: k
+    do k = 1, d%n_materials
+      associate (m => d%materials(k))
+        call put(t, '*MATERIAL, NAME='//trim(m%name))
+        if (m%has_elastic) then
+          call put(t, '*ELASTIC')
+          call put(t, real_text(m%e)//', '//real_text(m%nu))
+        end if
+        if (m%has_density) then
+          call put(t, '*DENSITY')
+          call put(t, real_text(m%rho))
+        end if
+      end associate
+    end do
+  end subroutine echo_materials
+
+  !> *NODE and *ELEMENT cards.
+  subroutine echo_mesh(d, full, t)
+    type(deck_t), intent(in) :: d
+    logical, intent(in) :: full
+    type(text_t), intent(inout) :: t
+    integer :: k, e, a, nshow
+    character(len=:), allocatable :: line
+
+    if (d%n_nodes > 0) then
+      call put(t, '*NODE')
+      nshow = shown_count(d%n_nodes, full)
+      do k = 1, nshow
+        call put(t, str(d%node_ids(k))//', '//real_text(d%node_x(1, k))//', '// &
+            real_text(d%node_x(2, k)))
+      end do
+      call more(t, d%n_nodes - nshow)
+    end if
+    do k = 1, d%n_blocks
+      associate (b => d%blocks(k))
+        line = '*ELEMENT, TYPE='//etype_name(b%etype)//', MATERIAL='//trim(b%material)
+        if (len_trim(b%elset) > 0) line = line//', ELSET='//trim(b%elset)
+        call put(t, line//', GAUSS='//str(b%gauss))
+        nshow = shown_count(size(b%ids), full)
+        do e = 1, nshow
+          line = str(b%ids(e))
+          do a = 1, b%nen
+            line = line//', '//str(b%conn(a, e))
+          end do
+          call put(t, line)
+        end do
+        call more(t, size(b%ids) - nshow)
+      end associate
+    end do
+  end subroutine echo_mesh
+
+  !> *PATCH with *KNOTS and *CONTROL POINTS, then *ELEVATE / *REFINE in deck order.
+  subroutine echo_patches(d, full, t)
+    type(deck_t), intent(in) :: d
+    logical, intent(in) :: full
+    type(text_t), intent(inout) :: t
+    integer :: k, nshow, ncp
+
+    do k = 1, d%n_patches
+      associate (p => d%patches(k))
+        call put(t, '*PATCH, NAME='//trim(p%name)//', MATERIAL='//trim(p%material)// &
+            ', DEGREE='//str(p%degree(1))//','//str(p%degree(2))//', SIZE='// &
+            str(p%size(1))//','//str(p%size(2)))
+        if (allocated(p%knots1)) then
+          call put(t, '*KNOTS, DIRECTION=1')
+          call put_reals(t, p%knots1)
+        end if
+        if (allocated(p%knots2)) then
+          call put(t, '*KNOTS, DIRECTION=2')
+          call put_reals(t, p%knots2)
+        end if
+        if (allocated(p%cp)) then
+          call put(t, '*CONTROL POINTS')
+          ncp = size(p%cp, 2)
+          nshow = shown_count(ncp, full)
+          call put_cp(t, p%cp(:, 1:nshow))
+          call more(t, ncp - nshow)
+        end if
+      end associate
+    end do
+    do k = 1, d%n_patch_ops
+      associate (op => d%patch_ops(k))
+        if (op%kind == OP_ELEVATE) then
+          call put(t, '*ELEVATE, PATCH='//trim(op%patch)//', DEGREE='//str(op%values(1))// &
+              ','//str(op%values(2)))
+        else
+          call put(t, '*REFINE, PATCH='//trim(op%patch)//', SUBDIVIDE='// &
+              str(op%values(1))//','//str(op%values(2)))
+        end if
+      end associate
+    end do
+  end subroutine echo_patches
+
+  subroutine put_cp(t, cp)
+    type(text_t), intent(inout) :: t
+    real(dp), intent(in) :: cp(:,:)
+    integer :: k
+    do k = 1, size(cp, 2)
+      call put(t, real_text(cp(1, k))//', '//real_text(cp(2, k))//', '//real_text(cp(3, k)))
+    end do
+  end subroutine put_cp
+
+  !> *NSET / *ELSET cards (ids first, then set names) and *SURFACE cards.
+  subroutine echo_sets(d, full, t)
+    type(deck_t), intent(in) :: d
+    logical, intent(in) :: full
+    type(text_t), intent(inout) :: t
+    integer :: k, e
+    character(len=:), allocatable :: key
+
+    do k = 1, d%n_sets
+      associate (s => d%sets(k))
+        key = trim(merge('NSET ', 'ELSET', s%kind == SET_NODE))
+        if (s%side /= SIDE_NONE) call put(t, '*NSET, NSET='//trim(s%name)//', PATCH='// &
+            trim(s%patch)//', SIDE='//side_name(s%side))
+        if (size(s%ids) + size(s%refs) > 0) then
+          call put(t, '*'//key//', '//key//'='//trim(s%name))
+          call put_set_list(t, s, full)
+        end if
+      end associate
+    end do
+    do k = 1, d%n_surfaces
+      associate (s => d%surfaces(k))
+        if (s%kind == SURF_PATCH) then
+          call put(t, '*SURFACE, NAME='//trim(s%name)//', PATCH='//trim(s%patch)// &
+              ', SIDE='//side_name(s%side))
+        else
+          call put(t, '*SURFACE, NAME='//trim(s%name)//', TYPE=ELEMENT')
+          do e = 1, size(s%elem)
+            if (s%elem(e) > 0) then
+              call put(t, str(s%elem(e))//', S'//str(s%face(e)))
+            else
+              call put(t, trim(s%elset(e))//', S'//str(s%face(e)))
+            end if
+          end do
+        end if
+      end associate
+    end do
+  end subroutine echo_sets
+
+  !> The data lines of one set: `per_line` ids, then `per_line` names per line.
+  subroutine put_set_list(t, s, full)
+    type(text_t), intent(inout) :: t
+    type(set_in_t), intent(in) :: s
+    logical, intent(in) :: full
+    integer :: k, j, nid, nref, nlines, shown
+    character(len=:), allocatable :: line
+
+    nid = size(s%ids)
+    nref = size(s%refs)
+    nlines = (nid + per_line - 1)/per_line + (nref + per_line - 1)/per_line
+    shown = 0
+    do k = 1, nid, per_line
+      if (shown == shown_count(nlines, full)) exit
+      line = str(s%ids(k))
+      do j = k + 1, min(k + per_line - 1, nid)
+        line = line//', '//str(s%ids(j))
+      end do
+      call put(t, line)
+      shown = shown + 1
+    end do
+    do k = 1, nref, per_line
+      if (shown == shown_count(nlines, full)) exit
+      line = trim(s%refs(k))
+      do j = k + 1, min(k + per_line - 1, nref)
+        line = line//', '//trim(s%refs(j))
+      end do
+      call put(t, line)
+      shown = shown + 1
+    end do
+    call more(t, nlines - shown)
+  end subroutine put_set_list
+
+  !> *BOUNDARY, *INITIAL CONDITIONS, *MASS, *DAMPING, *CONTACT PAIR and *RIGID WALL.
+  subroutine echo_conditions(d, t)
+    type(deck_t), intent(in) :: d
+    type(text_t), intent(inout) :: t
+    integer :: k
+    character(len=:), allocatable :: line
+
+    if (d%n_boundaries > 0) call put(t, '*BOUNDARY')
+    do k = 1, d%n_boundaries
+      associate (b => d%boundaries(k))
+        call put(t, trim(b%target)//', '//str(b%first_dof)//', '//str(b%last_dof)//', '// &
+            real_text(b%value))
+      end associate
+    end do
+    if (d%n_velocities > 0) call put(t, '*INITIAL CONDITIONS, TYPE=VELOCITY')
+    do k = 1, d%n_velocities
+      associate (v => d%velocities(k))
+        call put(t, trim(v%target)//', '//str(v%dof)//', '//real_text(v%value))
+      end associate
+    end do
+    if (d%n_masses == 0) call put(t, '** no *MASS card: the program default applies')
+    do k = 1, d%n_masses
+      associate (m => d%masses(k))
+        line = '*MASS, TYPE='//mass_name(m%kind)
+        if (m%kind == MASS_HRZ) line = line//', INTEGRATION='// &
+            trim(merge('2X2 ', 'FULL', m%hrz_rule == HRZ_GAUSS2))
+        if (m%kind == MASS_ALPHA) line = line//', ALPHA='//real_text(m%alpha)
+        call put(t, line//body(m%elset, m%patch))
+      end associate
+    end do
+    do k = 1, d%n_dampings
+      associate (dm => d%dampings(k))
+        call put(t, '*DAMPING, ALPHA='//real_text(dm%alpha)//body(dm%elset, dm%patch))
+      end associate
+    end do
+    do k = 1, d%n_pairs
+      associate (p => d%pairs(k))
+        line = '*CONTACT PAIR, NAME='//trim(p%name)//', PENALTY='//real_text(p%penalty)// &
+            ', ALGORITHM='//trim(merge('NODE TO SEGMENT', 'TWO HALF PASS  ', &
+            p%algorithm == CONTACT_NODE_TO_SEGMENT))
+        if (p%mass_penalty == 0.0_dp) then
+          line = line//', MASS PENALTY=AUTO'
+        else if (p%mass_penalty > 0.0_dp) then
+          line = line//', MASS PENALTY='//real_text(p%mass_penalty)
+        end if
+        call put(t, line)
+        call put(t, trim(p%first)//', '//trim(p%second))
+      end associate
+    end do
+    do k = 1, d%n_walls
+      associate (w => d%walls(k))
+        call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='//real_text(w%point(1))// &
+            ','//real_text(w%point(2))//', NORMAL='//real_text(w%normal(1))//','// &
+            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty))
+        call put(t, trim(w%surface))
+      end associate
+    end do
+  end subroutine echo_conditions
+
+  !> ", ELSET=x" or ", PATCH=x" or ''.
+  pure function body(elset, patch) result(r)
+    character(len=*), intent(in) :: elset, patch
+    character(len=:), allocatable :: r
+    r = ''
+    if (len_trim(elset) > 0) r = ', ELSET='//trim(elset)
+    if (len_trim(patch) > 0) r = ', PATCH='//trim(patch)
+  end function body
+
+  subroutine echo_step(d, t)
+    type(deck_t), intent(in) :: d
+    type(text_t), intent(inout) :: t
+    if (.not. d%has_step) return
+    call put(t, '*STEP')
+    call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety))
+    call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
+    call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
+    if (d%step%field_every == 0) then
+      call put(t, '*OUTPUT, FIELD, EVERY=0     ** 0 = default: 20 snapshots over the run')
+    else
+      call put(t, '*OUTPUT, FIELD, EVERY='//str(d%step%field_every))
+    end if
+    if (d%step%restart_every > 0) then
+      call put(t, '*RESTART, WRITE, EVERY='//str(d%step%restart_every))
+    else
+      call put(t, '** no *RESTART: no checkpoints')
+    end if
+    call put(t, '*END STEP')
+  end subroutine echo_step
+
+  ! ------------------------------------------------------------------------------------------
+
+  !> Number of data lines to show out of `n`.
+  pure integer function shown_count(n, full)
+    integer, intent(in) :: n
+    logical, intent(in) :: full
+    shown_count = n
+    if (.not. full) shown_count = min(n, short_lines)
+  end function shown_count
+
+  !> The "** ... N more lines" comment (nothing when N = 0).
+  subroutine more(t, n)
+    type(text_t), intent(inout) :: t
+    integer, intent(in) :: n
+    if (n > 0) call put(t, '** ... '//str(n)//' more line'//trim(merge('s', ' ', n /= 1)))
+  end subroutine more
+
+  !> Reals, `per_line` per line.
+  subroutine put_reals(t, x)
+    type(text_t), intent(inout) :: t
+    real(dp), intent(in) :: x(:)
+    character(len=:), allocatable :: line
+    integer :: k
+    line = ''
+    do k = 1, size(x)
+      if (len(line) > 0) line = line//', '
+      line = line//real_text(x(k))
+      if (mod(k, per_line) == 0 .or. k == size(x)) then
+        call put(t, line)
+        line = ''
+      end if
+    end do
+  end subroutine put_reals
+
+  !> Appends one line to `t`.
+  subroutine put(t, line)
+    type(text_t), intent(inout) :: t
+    character(len=*), intent(in) :: line
+    character(len=:), allocatable :: tmp
+    integer :: need
+    need = t%n + len(line) + 1
+    if (need > len(t%s)) then
+      allocate(character(len=max(need, 2*len(t%s))) :: tmp)
+      tmp(1:t%n) = t%s(1:t%n)
+      call move_alloc(tmp, t%s)
+    end if
+    t%s(t%n + 1:need) = line//achar(10)
+    t%n = need
+  end subroutine put
+
+  !> Shortest decimal text of `x` that reads back to exactly `x`: plain notation for
+  !! 1e-5 <= |x| < 1e15 ("0.3", "210000", "-1.5"), otherwise "d.dddE<exp>".
+  function real_text(x) result(s)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=40) :: buf, fmt
+    character(len=:), allocatable :: digits
+    real(dp) :: y
+    integer :: d, e, ios, ke, k
+
+    do d = 0, 17
+      write(fmt, '(a,i0,a)') '(es32.', d, 'e3)'
+      write(buf, fmt) x
+      read(buf, *, iostat=ios) y
+      if (ios == 0 .and. y == x) exit
+    end do
+    buf = adjustl(buf)
+    ke = index(buf, 'E')
+    read(buf(ke + 1:), *) e
+    digits = ''
+    do k = 1, ke - 1
+      if (buf(k:k) >= '0' .and. buf(k:k) <= '9') digits = digits//buf(k:k)
+    end do
+    do while (len(digits) > 1 .and. digits(len(digits):) == '0')
+      digits = digits(1:len(digits) - 1)
+    end do
+    if (digits == '0') e = 0
+    if (e >= -5 .and. e < 15) then
+      if (e >= 0) then
+        if (len(digits) <= e + 1) then
+          s = digits//repeat('0', e + 1 - len(digits))
+        else
+          s = digits(1:e + 1)//'.'//digits(e + 2:)
+        end if
+      else
+        s = '0.'//repeat('0', -e - 1)//digits
+      end if
+    else
+      s = digits(1:1)
+      if (len(digits) > 1) s = s//'.'//digits(2:)
+      s = s//'E'//str(e)
+    end if
+    if (buf(1:1) == '-') s = '-'//s
+  end function real_text
+
+end module ictus_io_deck_echo

@@ -1,0 +1,379 @@
+!> Thin, checked wrappers around the HDF5 Fortran API for the results and checkpoint files.
+!!
+!! Files are opened through MPI-IO (parallel HDF5) with collective transfers. The data of a
+!! write is taken from rank 0 (the others select nothing), so every call is collective and
+!! the file layout does not depend on the number of ranks. Every HDF5 status is checked; a
+!! failure is a run-time error naming the object.
+module ictus_io_hdf5_util
+  use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, &
+      h5fflush_f, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
+      h5pset_libver_bounds_f, h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5gopen_f, &
+      h5screate_f, h5screate_simple_f, h5sclose_f, h5sselect_none_f, h5sselect_hyperslab_f, &
+      h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dset_extent_f, h5dget_space_f, &
+      h5sget_simple_extent_dims_f, h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
+      h5tset_size_f, h5tclose_f, h5lexists_f, &
+      H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
+      H5P_DATASET_CREATE_F, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, H5FD_MPIO_COLLECTIVE_F, &
+      H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
+      H5T_NATIVE_CHARACTER, H5F_SCOPE_GLOBAL_F
+  use ictus_core_kinds, only: dp
+  use ictus_core_errors, only: fatal
+  use ictus_parallel_env, only: env_comm_f, env_info_null_f, env_is_root
+  implicit none
+  private
+  public :: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, h5u_close_group, &
+      h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, h5u_create_ext, h5u_append, &
+      h5u_exists
+
+  !> Writes a whole dataset (data from rank 0).
+  interface h5u_write
+    module procedure write_real1, write_real2, write_int1, write_int2
+  end interface h5u_write
+  !> Appends records to an extendible dataset created by h5u_create_ext.
+  interface h5u_append
+    module procedure append_real1, append_real2, append_int1
+  end interface h5u_append
+
+  !> The collective transfer property list, made when the file is created.
+  integer(hid_t) :: dxpl = -1
+
+contains
+
+  !> Stops the run with a message when an HDF5 call failed.
+  subroutine check(err, what)
+    integer, intent(in) :: err
+    character(len=*), intent(in) :: what
+    if (err < 0) call fatal('HDF5', 'failed: '//what)
+  end subroutine check
+
+  !> Creates (truncates) a results file for collective parallel access.
+  subroutine h5u_create_file(path, file_id)
+    character(len=*), intent(in) :: path
+    integer(hid_t), intent(out) :: file_id
+    integer(hid_t) :: fapl
+    integer :: err
+    call h5open_f(err)
+    call check(err, 'h5open')
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call check(err, 'h5pcreate fapl')
+    call h5pset_fapl_mpio_f(fapl, env_comm_f(), env_info_null_f(), err)
+    call check(err, 'h5pset_fapl_mpio')
+    ! the newer object format allows attributes larger than 64 KiB (the processed deck)
+    call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, err)
+    call check(err, 'h5pset_libver_bounds')
+    call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, err, access_prp=fapl)
+    call check(err, 'creating '//trim(path))
+    call h5pclose_f(fapl, err)
+    call h5pcreate_f(H5P_DATASET_XFER_F, dxpl, err)
+    call check(err, 'h5pcreate dxpl')
+    call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
+    call check(err, 'h5pset_dxpl_mpio')
+  end subroutine h5u_create_file
+
+  subroutine h5u_close_file(file_id)
+    integer(hid_t), intent(inout) :: file_id
+    integer :: err
+    if (file_id < 0) return
+    call h5fclose_f(file_id, err)
+    call check(err, 'closing the results file')
+    file_id = -1
+    if (dxpl >= 0) call h5pclose_f(dxpl, err)
+    dxpl = -1
+  end subroutine h5u_close_file
+
+  !> Flushes everything written so far to disk, so the file is readable if the run stops.
+  subroutine h5u_flush(file_id)
+    integer(hid_t), intent(in) :: file_id
+    integer :: err
+    call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, err)
+    call check(err, 'h5fflush')
+  end subroutine h5u_flush
+
+  !> True when a link `name` exists below `loc`.
+  logical function h5u_exists(loc, name)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer :: err
+    call h5lexists_f(loc, name, h5u_exists, err)
+    if (err < 0) h5u_exists = .false.
+  end function h5u_exists
+
+  !> Opens group `name` below `loc`, creating it if needed (one level).
+  subroutine h5u_group(loc, name, gid)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(hid_t), intent(out) :: gid
+    integer :: err
+    if (h5u_exists(loc, name)) then
+      call h5gopen_f(loc, name, gid, err)
+    else
+      call h5gcreate_f(loc, name, gid, err)
+    end if
+    call check(err, 'group '//name)
+  end subroutine h5u_group
+
+  subroutine h5u_close_group(gid)
+    integer(hid_t), intent(in) :: gid
+    integer :: err
+    call h5gclose_f(gid, err)
+    call check(err, 'h5gclose')
+  end subroutine h5u_close_group
+
+  subroutine h5u_attr_string(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name, value
+    integer(hid_t) :: tid, sid, aid
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = 1
+    call h5tcopy_f(H5T_NATIVE_CHARACTER, tid, err)
+    call h5tset_size_f(tid, int(max(len(value), 1), hsize_t), err)
+    call h5screate_f(H5S_SCALAR_F, sid, err)
+    call h5acreate_f(loc, name, tid, sid, aid, err)
+    call check(err, 'attribute '//name)
+    if (len(value) > 0) then
+      call h5awrite_f(aid, tid, value, dims, err)
+    else
+      call h5awrite_f(aid, tid, ' ', dims, err)
+    end if
+    call check(err, 'writing attribute '//name)
+    call h5aclose_f(aid, err)
+    call h5sclose_f(sid, err)
+    call h5tclose_f(tid, err)
+  end subroutine h5u_attr_string
+
+  subroutine h5u_attr_int(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: value
+    integer(hid_t) :: sid, aid
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = 1
+    call h5screate_f(H5S_SCALAR_F, sid, err)
+    call h5acreate_f(loc, name, H5T_NATIVE_INTEGER, sid, aid, err)
+    call check(err, 'attribute '//name)
+    call h5awrite_f(aid, H5T_NATIVE_INTEGER, value, dims, err)
+    call check(err, 'writing attribute '//name)
+    call h5aclose_f(aid, err)
+    call h5sclose_f(sid, err)
+  end subroutine h5u_attr_int
+
+  subroutine h5u_attr_real(loc, name, value)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: value
+    integer(hid_t) :: sid, aid
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = 1
+    call h5screate_f(H5S_SCALAR_F, sid, err)
+    call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, sid, aid, err)
+    call check(err, 'attribute '//name)
+    call h5awrite_f(aid, H5T_NATIVE_DOUBLE, value, dims, err)
+    call check(err, 'writing attribute '//name)
+    call h5aclose_f(aid, err)
+    call h5sclose_f(sid, err)
+  end subroutine h5u_attr_real
+
+  !> Creates a fixed-size dataset of rank size(dims) and returns it with a file space in which
+  !! rank 0 selects everything and the other ranks nothing.
+  subroutine open_fixed(loc, name, dtype, dims, did, fspace)
+    integer(hid_t), intent(in) :: loc, dtype
+    character(len=*), intent(in) :: name
+    integer(hsize_t), intent(in) :: dims(:)
+    integer(hid_t), intent(out) :: did, fspace
+    integer :: err
+    call h5screate_simple_f(size(dims), dims, fspace, err)
+    call check(err, 'dataspace '//name)
+    call h5dcreate_f(loc, name, dtype, fspace, did, err)
+    call check(err, 'dataset '//name)
+    if (.not. env_is_root()) call h5sselect_none_f(fspace, err)
+  end subroutine open_fixed
+
+  !> Memory space matching `fspace`'s selection on this rank.
+  subroutine mem_space(dims, mspace)
+    integer(hsize_t), intent(in) :: dims(:)
+    integer(hid_t), intent(out) :: mspace
+    integer :: err
+    call h5screate_simple_f(size(dims), dims, mspace, err)
+    if (.not. env_is_root()) call h5sselect_none_f(mspace, err)
+  end subroutine mem_space
+
+  subroutine close_ds(did, fspace, mspace, name, err)
+    integer(hid_t), intent(in) :: did, fspace, mspace
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: err
+    integer :: e2
+    call check(err, 'writing '//name)
+    call h5sclose_f(mspace, e2)
+    call h5sclose_f(fspace, e2)
+    call h5dclose_f(did, e2)
+  end subroutine close_ds
+
+  subroutine write_real1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:)
+    integer(hid_t) :: did, fs, ms
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = shape(x, kind=hsize_t)
+    call open_fixed(loc, name, H5T_NATIVE_DOUBLE, dims, did, fs)
+    call mem_space(dims, ms)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, x, dims, err, mem_space_id=ms, &
+        file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine write_real1
+
+  subroutine write_real2(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer(hid_t) :: did, fs, ms
+    integer(hsize_t) :: dims(2)
+    integer :: err
+    dims = shape(x, kind=hsize_t)
+    call open_fixed(loc, name, H5T_NATIVE_DOUBLE, dims, did, fs)
+    call mem_space(dims, ms)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, x, dims, err, mem_space_id=ms, &
+        file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine write_real2
+
+  subroutine write_int1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: x(:)
+    integer(hid_t) :: did, fs, ms
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = shape(x, kind=hsize_t)
+    call open_fixed(loc, name, H5T_NATIVE_INTEGER, dims, did, fs)
+    call mem_space(dims, ms)
+    call h5dwrite_f(did, H5T_NATIVE_INTEGER, x, dims, err, mem_space_id=ms, &
+        file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine write_int1
+
+  subroutine write_int2(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: x(:,:)
+    integer(hid_t) :: did, fs, ms
+    integer(hsize_t) :: dims(2)
+    integer :: err
+    dims = shape(x, kind=hsize_t)
+    call open_fixed(loc, name, H5T_NATIVE_INTEGER, dims, did, fs)
+    call mem_space(dims, ms)
+    call h5dwrite_f(did, H5T_NATIVE_INTEGER, x, dims, err, mem_space_id=ms, &
+        file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine write_int2
+
+  !> Creates an extendible dataset of records: (ncomp, 0) growing in the last Fortran
+  !! dimension (HDF5 shape (nt, ncomp)), or (0) when ncomp = 0. `integer` selects the type.
+  subroutine h5u_create_ext(loc, name, ncomp, chunk, is_integer)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ncomp, chunk
+    logical, intent(in), optional :: is_integer
+    integer(hid_t) :: sid, did, dcpl, dtype
+    integer(hsize_t), allocatable :: dims(:), maxdims(:), cdims(:)
+    integer :: err
+    dtype = H5T_NATIVE_DOUBLE
+    if (present(is_integer)) then
+      if (is_integer) dtype = H5T_NATIVE_INTEGER
+    end if
+    if (ncomp == 0) then
+      dims = [0_hsize_t]
+      maxdims = [H5S_UNLIMITED_F]
+      cdims = [int(chunk, hsize_t)]
+    else
+      dims = [int(ncomp, hsize_t), 0_hsize_t]
+      maxdims = [int(ncomp, hsize_t), H5S_UNLIMITED_F]
+      cdims = [int(ncomp, hsize_t), int(chunk, hsize_t)]
+    end if
+    call h5screate_simple_f(size(dims), dims, sid, err, maxdims)
+    call check(err, 'dataspace '//name)
+    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
+    call h5pset_chunk_f(dcpl, size(cdims), cdims, err)
+    call check(err, 'chunking '//name)
+    call h5dcreate_f(loc, name, dtype, sid, did, err, dcpl_id=dcpl)
+    call check(err, 'dataset '//name)
+    call h5dclose_f(did, err)
+    call h5pclose_f(dcpl, err)
+    call h5sclose_f(sid, err)
+  end subroutine h5u_create_ext
+
+  !> Extends dataset `name` by `nnew` records and returns the file space with the new records
+  !! selected on rank 0 (nothing elsewhere).
+  subroutine extend(loc, name, rank, ncomp, nnew, did, fs, ms)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: rank, ncomp, nnew
+    integer(hid_t), intent(out) :: did, fs, ms
+    integer(hsize_t) :: dims(rank), maxdims(rank), start(rank), count(rank)
+    integer :: err
+    call h5dopen_f(loc, name, did, err)
+    call check(err, 'opening '//name)
+    call h5dget_space_f(did, fs, err)
+    call h5sget_simple_extent_dims_f(fs, dims, maxdims, err)
+    call h5sclose_f(fs, err)
+    start = 0
+    if (rank == 1) then
+      start(1) = dims(1)
+      dims(1) = dims(1) + nnew
+      count = [int(nnew, hsize_t)]
+    else
+      start(2) = dims(2)
+      dims(2) = dims(2) + nnew
+      count = [int(ncomp, hsize_t), int(nnew, hsize_t)]
+    end if
+    call h5dset_extent_f(did, dims, err)
+    call check(err, 'extending '//name)
+    call h5dget_space_f(did, fs, err)
+    call h5sselect_hyperslab_f(fs, H5S_SELECT_SET_F, start, count, err)
+    if (.not. env_is_root()) call h5sselect_none_f(fs, err)
+    call mem_space(count, ms)
+  end subroutine extend
+
+  subroutine append_real1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:)
+    integer(hid_t) :: did, fs, ms
+    integer :: err
+    if (size(x) == 0) return
+    call extend(loc, name, 1, 0, size(x), did, fs, ms)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, x, shape(x, kind=hsize_t), err, &
+        mem_space_id=ms, file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine append_real1
+
+  subroutine append_int1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: x(:)
+    integer(hid_t) :: did, fs, ms
+    integer :: err
+    if (size(x) == 0) return
+    call extend(loc, name, 1, 0, size(x), did, fs, ms)
+    call h5dwrite_f(did, H5T_NATIVE_INTEGER, x, shape(x, kind=hsize_t), err, &
+        mem_space_id=ms, file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine append_int1
+
+  subroutine append_real2(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer(hid_t) :: did, fs, ms
+    integer :: err
+    if (size(x, 2) == 0) return
+    call extend(loc, name, 2, size(x, 1), size(x, 2), did, fs, ms)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, x, shape(x, kind=hsize_t), err, &
+        mem_space_id=ms, file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine append_real2
+end module ictus_io_hdf5_util

@@ -1,0 +1,241 @@
+!> The results file (layout: doc/results.md, after ../shared/reference/results-format.md).
+!!
+!! One HDF5 file per run, written while the run goes on: the model once, history records
+!! buffered and appended in blocks, field snapshots as they come, and a flush after each
+!! block, so a run that stops leaves everything written so far readable. The root attribute
+!! `status` is written last ("completed" or the failure), so a file without it is from a run
+!! that did not finish.
+module ictus_io_results
+  use ictus_core_kinds, only: dp
+  use ictus_core_strings, only: lower
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, etype_name
+  use ictus_solver_model, only: model_t
+  use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
+      h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
+      h5u_create_ext, h5u_append
+  use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t
+  implicit none
+  private
+  public :: results_t, results_open, results_history, results_field, results_close, &
+      history_record_t
+
+  !> Records kept in memory before they are appended to the file.
+  integer, parameter :: buffer_size = 512
+
+  !> One history record.
+  type :: history_record_t
+    real(dp) :: time = 0.0_dp
+    real(dp) :: dt = 0.0_dp
+    real(dp) :: kinetic = 0.0_dp
+    real(dp) :: strain = 0.0_dp
+    real(dp) :: contact = 0.0_dp
+    real(dp) :: external_work = 0.0_dp
+  end type history_record_t
+
+  type :: results_t
+    integer(hid_t) :: file = -1
+    character(len=:), allocatable :: path
+    character(len=:), allocatable :: xdmf_path
+    integer :: nbuf = 0
+    type(history_record_t) :: buf(buffer_size)
+    !> Contiguous work column for writing one quantity of the buffered records.
+    real(dp) :: col(buffer_size)
+    !> Field snapshots written so far: step numbers and times.
+    integer :: n_fields = 0
+    integer, allocatable :: field_step(:)
+    real(dp), allocatable :: field_time(:)
+    !> Element blocks for the XDMF sidecar.
+    type(xdmf_grid_t), allocatable :: grids(:)
+    integer :: nn = 0
+  end type results_t
+
+contains
+
+  !> Creates the file and writes the root attributes and the model.
+  !! `omega_max` is the estimated largest natural frequency, `dt` the time step used.
+  subroutine results_open(r, path, model, deck_text, ranks, m_diag, omega_max, dt)
+    type(results_t), intent(out) :: r
+    character(len=*), intent(in) :: path, deck_text
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: ranks
+    real(dp), intent(in) :: m_diag(:)
+    real(dp), intent(in) :: omega_max, dt
+    integer(hid_t) :: g
+    integer :: k
+    r%path = path
+    k = index(path, '.h5', back=.true.)
+    if (k > 0 .and. k == len(path) - 2) then
+      r%xdmf_path = path(1:k - 1)//'.xdmf'
+    else
+      r%xdmf_path = path//'.xdmf'
+    end if
+    r%nn = model%nn
+    allocate(r%field_step(0), r%field_time(0))
+    call h5u_create_file(path, r%file)
+    call h5u_attr_string(r%file, 'program', 'ictus')
+    call h5u_attr_string(r%file, 'version', ictus_version_string())
+    call h5u_attr_int(r%file, 'format_version', 1)
+    call h5u_attr_string(r%file, 'title', model%title)
+    if (model%plane_strain) then
+      call h5u_attr_string(r%file, 'analysis', 'plane strain')
+    else
+      call h5u_attr_string(r%file, 'analysis', 'plane stress')
+    end if
+    call h5u_attr_real(r%file, 'thickness', model%thickness)
+    call h5u_attr_int(r%file, 'ranks', ranks)
+    call h5u_attr_string(r%file, 'deck', deck_text)
+    call h5u_attr_real(r%file, 'omega_max', omega_max)
+    call h5u_attr_real(r%file, 'dt', dt)
+    call write_model(r, model, m_diag)
+    call h5u_group(r%file, 'history', g)
+    call h5u_create_ext(g, 'time', 0, buffer_size)
+    call h5u_create_ext(g, 'dt', 0, buffer_size)
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'history/energy', g)
+    call h5u_create_ext(g, 'kinetic', 0, buffer_size)
+    call h5u_create_ext(g, 'strain', 0, buffer_size)
+    call h5u_create_ext(g, 'contact', 0, buffer_size)
+    call h5u_create_ext(g, 'external_work', 0, buffer_size)
+    call h5u_create_ext(g, 'total', 0, buffer_size)
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'fields', g)
+    call h5u_close_group(g)
+    call h5u_flush(r%file)
+  end subroutine results_open
+
+  function ictus_version_string() result(v)
+    use ictus_core_build_info, only: ictus_version
+    character(len=:), allocatable :: v
+    v = ictus_version
+  end function ictus_version_string
+
+  !> /model: coordinates, weights, masses, ids, element blocks and patches.
+  subroutine write_model(r, model, m_diag)
+    type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
+    real(dp), intent(in) :: m_diag(:)
+    integer(hid_t) :: g, ge, gp
+    integer :: t, ne, e, k, ip, ng, nen
+    integer, allocatable :: conn(:,:), ids(:)
+    character(len=:), allocatable :: tname
+    call h5u_group(r%file, 'model', g)
+    call h5u_write(g, 'coordinates', model%x0)
+    call h5u_write(g, 'weights', model%weight)
+    call h5u_write(g, 'mass', m_diag)
+    call h5u_write(g, 'node_ids', model%node_id)
+    call h5u_group(g, 'elements', ge)
+    allocate(r%grids(0))
+    ng = 0
+    do t = ETYPE_Q4, ETYPE_IGA
+      ne = count(model%etype == t)
+      if (ne == 0) cycle
+      nen = maxval(model%nen, mask=model%etype == t)
+      allocate(conn(nen, ne), ids(ne))
+      conn = -1
+      k = 0
+      do e = 1, model%nel
+        if (model%etype(e) /= t) cycle
+        k = k + 1
+        conn(1:model%nen(e), k) = model%conn(1:model%nen(e), e) - 1
+        ids(k) = model%elem_id(e)
+      end do
+      tname = lower(etype_name(t))
+      call h5u_group(ge, tname, gp)
+      call h5u_write(gp, 'connectivity', conn)
+      call h5u_write(gp, 'ids', ids)
+      call h5u_close_group(gp)
+      if (t /= ETYPE_IGA) then
+        ng = ng + 1
+        r%grids = [r%grids, xdmf_grid_t(tname, t, ne, nen)]
+      end if
+      deallocate(conn, ids)
+    end do
+    call h5u_close_group(ge)
+    if (model%npatch > 0) then
+      call h5u_group(g, 'patches', ge)
+      do ip = 1, model%npatch
+        associate (pt => model%patches(ip))
+          call h5u_group(ge, trim(lower(pt%name)), gp)
+          call h5u_write(gp, 'degree', pt%p)
+          call h5u_write(gp, 'size', pt%n)
+          call h5u_write(gp, 'knots_1', pt%knots1)
+          call h5u_write(gp, 'knots_2', pt%knots2)
+          call h5u_write(gp, 'ids', [(model%patch_offset(ip) + k, k = 1, pt%n(1)*pt%n(2))])
+          call h5u_close_group(gp)
+        end associate
+      end do
+      call h5u_close_group(ge)
+    end if
+    call h5u_close_group(g)
+  end subroutine write_model
+
+  !> Adds one history record (appended to the file in blocks).
+  subroutine results_history(r, rec)
+    type(results_t), intent(inout) :: r
+    type(history_record_t), intent(in) :: rec
+    r%nbuf = r%nbuf + 1
+    r%buf(r%nbuf) = rec
+    if (r%nbuf == buffer_size) call flush_history(r)
+  end subroutine results_history
+
+  subroutine flush_history(r)
+    type(results_t), intent(inout) :: r
+    integer(hid_t) :: g
+    integer :: n
+    n = r%nbuf
+    if (n == 0) return
+    call h5u_group(r%file, 'history', g)
+    r%col(1:n) = r%buf(1:n)%time
+    call h5u_append(g, 'time', r%col(1:n))
+    r%col(1:n) = r%buf(1:n)%dt
+    call h5u_append(g, 'dt', r%col(1:n))
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'history/energy', g)
+    r%col(1:n) = r%buf(1:n)%kinetic
+    call h5u_append(g, 'kinetic', r%col(1:n))
+    r%col(1:n) = r%buf(1:n)%strain
+    call h5u_append(g, 'strain', r%col(1:n))
+    r%col(1:n) = r%buf(1:n)%contact
+    call h5u_append(g, 'contact', r%col(1:n))
+    r%col(1:n) = r%buf(1:n)%external_work
+    call h5u_append(g, 'external_work', r%col(1:n))
+    r%col(1:n) = r%buf(1:n)%kinetic + r%buf(1:n)%strain + r%buf(1:n)%contact &
+        - r%buf(1:n)%external_work
+    call h5u_append(g, 'total', r%col(1:n))
+    call h5u_close_group(g)
+    r%nbuf = 0
+    call h5u_flush(r%file)
+  end subroutine flush_history
+
+  !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar.
+  subroutine results_field(r, step, time, u, v)
+    type(results_t), intent(inout) :: r
+    integer, intent(in) :: step
+    real(dp), intent(in) :: time
+    real(dp), intent(in) :: u(:,:), v(:,:)
+    integer(hid_t) :: g
+    character(len=8) :: name
+    write(name, '(i8.8)') step
+    call h5u_group(r%file, 'fields/'//name, g)
+    call h5u_attr_real(g, 'time', time)
+    call h5u_attr_int(g, 'step', step)
+    call h5u_write(g, 'displacement', u)
+    call h5u_write(g, 'velocity', v)
+    call h5u_close_group(g)
+    r%n_fields = r%n_fields + 1
+    r%field_step = [r%field_step, step]
+    r%field_time = [r%field_time, time]
+    call flush_history(r)
+    call xdmf_write(r%xdmf_path, r%path, r%nn, r%grids, r%field_step, r%field_time)
+  end subroutine results_field
+
+  !> Writes the remaining history, the final `status` attribute, and closes the file.
+  subroutine results_close(r, status)
+    type(results_t), intent(inout) :: r
+    character(len=*), intent(in) :: status
+    if (r%file < 0) return
+    call flush_history(r)
+    call h5u_attr_string(r%file, 'status', status)
+    call h5u_close_file(r%file)
+  end subroutine results_close
+end module ictus_io_results

@@ -1,0 +1,101 @@
+!> The XDMF sidecar that lets ParaView and VisIt open the field snapshots as a time series.
+!! It only points into the HDF5 file; it is rewritten (by rank 0) after every snapshot.
+module ictus_io_xdmf
+  use ictus_core_kinds, only: dp
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
+  use ictus_parallel_env, only: env_is_root
+  implicit none
+  private
+  public :: xdmf_write, xdmf_grid_t
+
+  !> One block of elements of one type (/model/elements/<name>/connectivity).
+  type :: xdmf_grid_t
+    character(len=16) :: name = ''
+    integer :: etype = 0
+    integer :: nel = 0
+    integer :: nen = 0
+  end type xdmf_grid_t
+
+contains
+
+  !> Writes `path` describing the snapshots `steps`/`times` stored in the HDF5 file `h5path`.
+  subroutine xdmf_write(path, h5path, nn, grids, steps, times)
+    character(len=*), intent(in) :: path, h5path
+    integer, intent(in) :: nn
+    type(xdmf_grid_t), intent(in) :: grids(:)
+    integer, intent(in) :: steps(:)
+    real(dp), intent(in) :: times(:)
+    integer :: u, i, j, ios
+    character(len=8) :: sname
+    character(len=:), allocatable :: h5
+    if (.not. env_is_root()) return
+    h5 = basename(h5path)
+    open(newunit=u, file=path, status='replace', action='write', iostat=ios)
+    if (ios /= 0) return
+    write(u, '(a)') '<?xml version="1.0" ?>'
+    write(u, '(a)') '<Xdmf Version="3.0">'
+    write(u, '(a)') ' <Domain>'
+    write(u, '(a)') '  <Grid Name="ictus" GridType="Collection" CollectionType="Temporal">'
+    do i = 1, size(steps)
+      write(sname, '(i8.8)') steps(i)
+      write(u, '(a)') '   <Grid Name="step '//sname//'" GridType="Collection" '// &
+          'CollectionType="Spatial">'
+      write(u, '(a,es23.16,a)') '    <Time Value="', times(i), '"/>'
+      do j = 1, size(grids)
+        write(u, '(a)') '    <Grid Name="'//trim(grids(j)%name)//'" GridType="Uniform">'
+        write(u, '(a,i0,a)') '     <Topology TopologyType="'//topology(grids(j)%etype)// &
+            '" NumberOfElements="', grids(j)%nel, '">'
+        write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Int" Dimensions="', &
+            grids(j)%nel, grids(j)%nen, '">'//h5//':/model/elements/'// &
+            trim(grids(j)%name)//'/connectivity</DataItem>'
+        write(u, '(a)') '     </Topology>'
+        write(u, '(a)') '     <Geometry GeometryType="XY">'
+        write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', nn, &
+            ' 2">'//h5//':/model/coordinates</DataItem>'
+        write(u, '(a)') '     </Geometry>'
+        call attribute(u, 'displacement', h5, sname, nn)
+        call attribute(u, 'velocity', h5, sname, nn)
+        write(u, '(a)') '    </Grid>'
+      end do
+      write(u, '(a)') '   </Grid>'
+    end do
+    write(u, '(a)') '  </Grid>'
+    write(u, '(a)') ' </Domain>'
+    write(u, '(a)') '</Xdmf>'
+    close(u)
+  end subroutine xdmf_write
+
+  subroutine attribute(u, name, h5, sname, nn)
+    integer, intent(in) :: u, nn
+    character(len=*), intent(in) :: name, h5, sname
+    write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Vector" Center="Node">'
+    write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', nn, &
+        ' 2">'//h5//':/fields/'//sname//'/'//name//'</DataItem>'
+    write(u, '(a)') '     </Attribute>'
+  end subroutine attribute
+
+  !> XDMF topology name of an element type.
+  function topology(etype) result(name)
+    integer, intent(in) :: etype
+    character(len=:), allocatable :: name
+    select case (etype)
+    case (ETYPE_Q4)
+      name = 'Quadrilateral'
+    case (ETYPE_Q8)
+      name = 'Quadrilateral_8'
+    case (ETYPE_Q9)
+      name = 'Quadrilateral_9'
+    case default
+      name = 'Polyvertex'
+    end select
+  end function topology
+
+  !> File name without its directory (the sidecar sits next to the HDF5 file).
+  function basename(path) result(name)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: name
+    integer :: k
+    k = index(path, '/', back=.true.)
+    name = path(k + 1:)
+  end function basename
+end module ictus_io_xdmf

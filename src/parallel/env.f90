@@ -2,7 +2,7 @@
 !! broadcasts on a duplicate of MPI_COMM_WORLD.
 module ictus_parallel_env
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Init, MPI_Initialized, MPI_Finalize, &
-      MPI_Finalized, MPI_Comm_dup, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_Abort, &
+      MPI_Finalized, MPI_Comm_dup, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_INFO_NULL, &
       MPI_Allreduce, MPI_Bcast, MPI_Barrier, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, &
       MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_CHARACTER, MPI_LOGICAL, MPI_LOR
   use ictus_core_kinds, only: dp, i8
@@ -11,7 +11,7 @@ module ictus_parallel_env
   implicit none
   private
   public :: env_init, env_finalize, env_rank, env_size, env_is_root, env_comm_f, &
-      allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier
+      env_info_null_f, allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier
 
   !> Sum over all ranks, in place.
   interface allreduce_sum
@@ -87,6 +87,11 @@ contains
   integer function env_comm_f()
     env_comm_f = comm%mpi_val
   end function env_comm_f
+
+  !> MPI_INFO_NULL as a Fortran integer handle (for the HDF5 MPI-IO interface).
+  integer function env_info_null_f()
+    env_info_null_f = MPI_INFO_NULL%mpi_val
+  end function env_info_null_f
 
   subroutine barrier()
     call MPI_Barrier(comm)

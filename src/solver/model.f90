@@ -1,0 +1,86 @@
+!> The model as the solver sees it: nodes and control points in one global numbering, one
+!! element list for finite elements and NURBS spans, materials, mass and damping choices,
+!! boundary and initial conditions, and the step parameters.
+!!
+!! It is built from a deck by `ictus_app_build_model` (or directly by tests), so physics code
+!! never sees the parser.
+module ictus_solver_model
+  use ictus_core_kinds, only: dp, str_len
+  use ictus_geometry_patch, only: patch_t
+  implicit none
+  private
+  public :: model_t, model_free
+
+  type :: model_t
+    character(len=:), allocatable :: title
+    !> Plane strain (true) or plane stress (false).
+    logical :: plane_strain = .true.
+    real(dp) :: thickness = 1.0_dp
+
+    !> Number of nodes (FE nodes first, then the control points of each patch in turn).
+    integer :: nn = 0
+    !> Reference coordinates (2, nn).
+    real(dp), allocatable :: x0(:,:)
+    !> NURBS weights (nn); 1 for finite-element nodes.
+    real(dp), allocatable :: weight(:)
+    !> Id of each node as the user sees it (FE node id, or control-point number), (nn).
+    integer, allocatable :: node_id(:)
+
+    !> Number of elements, largest nodes per element.
+    integer :: nel = 0
+    integer :: nen_max = 0
+    !> Element type (ETYPE_*), nodes per element, connectivity (nen_max, nel) in global
+    !! node indices (1..nn), material index, Gauss points per direction (2, nel).
+    integer, allocatable :: etype(:)
+    integer, allocatable :: nen(:)
+    integer, allocatable :: conn(:,:)
+    integer, allocatable :: mat(:)
+    integer, allocatable :: gauss(:,:)
+    !> User element id (FE) or the element's number within its patch (IGA).
+    integer, allocatable :: elem_id(:)
+    !> Patch index (0 for FE elements) and element index within that patch.
+    integer, allocatable :: patch(:)
+    integer, allocatable :: patch_elem(:)
+
+    !> Materials: name, Young's modulus, Poisson ratio, density.
+    integer :: nmat = 0
+    character(len=str_len), allocatable :: mat_name(:)
+    real(dp), allocatable :: young(:), poisson(:), density(:)
+
+    !> Mass per element: MASS_* kind, alpha (TYPE=ALPHA), HRZ rule (HRZ_*).
+    integer, allocatable :: mass_kind(:)
+    real(dp), allocatable :: mass_alpha(:)
+    integer, allocatable :: hrz_rule(:)
+    !> Mass-proportional damping coefficient per element.
+    real(dp), allocatable :: damping(:)
+
+    !> Dirichlet conditions: fixed dofs (2, nn) and their prescribed values.
+    logical, allocatable :: fixed(:,:)
+    real(dp), allocatable :: u_fixed(:,:)
+    !> Initial velocity (2, nn).
+    real(dp), allocatable :: v0(:,:)
+
+    !> NURBS patches as refined, and the global index of each patch's first control point
+    !! minus one (control point k of patch p is node patch_offset(p) + k).
+    integer :: npatch = 0
+    type(patch_t), allocatable :: patches(:)
+    integer, allocatable :: patch_offset(:)
+
+    !> Step: time step (0 = automatic), end time, safety factor for automatic steps,
+    !! history and field output intervals (in steps).
+    real(dp) :: dt = 0.0_dp
+    real(dp) :: t_end = 0.0_dp
+    real(dp) :: safety = 0.9_dp
+    integer :: history_every = 1
+    integer :: field_every = 0
+  end type model_t
+
+contains
+
+  !> Releases everything a model holds.
+  subroutine model_free(m)
+    type(model_t), intent(inout) :: m
+    type(model_t) :: empty
+    m = empty
+  end subroutine model_free
+end module ictus_solver_model

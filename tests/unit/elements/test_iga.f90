@@ -5,7 +5,8 @@ program test_iga
       patch_elem_ij, patch_side_elements
   use ictus_geometry_sides, only: SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1
   use ictus_elements_types, only: elem_shape_t
-  use ictus_elements_iga, only: iga_shape_data, iga_basis_at, iga_gauss_legendre
+  use ictus_elements_iga, only: iga_shape_data, iga_basis_at
+  use ictus_elements_quadrature, only: gauss_legendre
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
@@ -69,13 +70,13 @@ contains
     type(checker_t), intent(inout) :: t
     real(dp) :: x(12), w(12)
     integer :: n
-    call iga_gauss_legendre(2, x(1:2), w(1:2))
+    call gauss_legendre(2, x(1:2), w(1:2))
     call t%close_abs(x(2), 1.0_dp/sqrt(3.0_dp), 1.0e-15_dp, "2-point abscissa")
-    call iga_gauss_legendre(3, x(1:3), w(1:3))
+    call gauss_legendre(3, x(1:3), w(1:3))
     call t%close_abs(x(3), sqrt(0.6_dp), 1.0e-15_dp, "3-point abscissa")
     call t%close_abs(w(2), 8.0_dp/9.0_dp, 1.0e-15_dp, "3-point centre weight")
     do n = 1, 12
-      call iga_gauss_legendre(n, x(1:n), w(1:n))
+      call gauss_legendre(n, x(1:n), w(1:n))
       call t%close_abs(sum(w(1:n)), 2.0_dp, 1.0e-14_dp, "Gauss weights sum")
       call t%close_abs(sum(w(1:n)*x(1:n)**(2*n-2)), 2.0_dp/real(2*n-1, dp), 1.0e-14_dp, &
           "Gauss exact for x^(2n-2)")
@@ -139,7 +140,7 @@ contains
     call half_disc(q)
     call patch_elevate(q, [3, 2])
     call patch_refine(q, [3, 4])
-    call iga_gauss_legendre(3, gx, gw)
+    call gauss_legendre(3, gx, gw)
     pu = 0.0_dp
     ex = 0.0_dp
     ed = 0.0_dp

@@ -1,0 +1,397 @@
+!> Whole-deck checks of a `deck_t`, run by the reader after the last card: everything that
+!! needs the complete deck (so the order of cards in the deck does not matter).
+!!
+!! * materials: *ELASTIC and *DENSITY present; MATERIAL= of elements and patches defined;
+!! * nodes and elements: unique ids, element nodes defined, surface elements defined;
+!! * patches: both *KNOTS and *CONTROL POINTS; *ELEVATE/*REFINE of known patches, elevation
+!!   never below the current degree (earlier *ELEVATE of the same patch included);
+!! * names used but never defined: set references, *BOUNDARY / *INITIAL CONDITIONS targets,
+!!   *SURFACE element sets, PATCH= and ELSET= of *NSET, *SURFACE, *MASS and *DAMPING, the
+!!   surfaces of *CONTACT PAIR and *RIGID WALL; set reference cycles.
+!! Every ELSET name (of *ELSET or of *ELEMENT, ELSET=) and every patch name is also a node set.
+module ictus_io_deck_checks
+  use ictus_core_kinds, only: str_len
+  use ictus_core_errors, only: input_error
+  use ictus_core_strings, only: str
+  use ictus_io_deck_types, only: deck_t, SET_NODE, SET_ELEMENT, SIDE_NONE, SURF_PATCH, &
+      OP_ELEVATE, where_len
+  implicit none
+  private
+  public :: check_deck
+
+  !> Kinds of defined names (bit flags).
+  integer, parameter :: NAME_NSET = 1, NAME_ELSET = 2, NAME_PATCH = 4, NAME_SURFACE = 8
+
+  !> The table of defined names.
+  type :: names_t
+    integer :: n = 0
+    character(len=str_len), allocatable :: name(:)
+    integer, allocatable :: kind(:)
+  end type names_t
+
+contains
+
+  !> Runs every whole-deck check on `d`, reporting problems with `input_error`.
+  subroutine check_deck(d)
+    type(deck_t), intent(in) :: d
+    type(names_t) :: names
+    call collect_names(d, names)
+    call check_materials(d)
+    call check_nodes_elements(d, names)
+    call check_patches(d)
+    call check_sets(d, names)
+    call check_uses(d, names)
+  end subroutine check_deck
+
+  !> Builds the table of set, patch and surface names.
+  subroutine collect_names(d, t)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(out) :: t
+    integer :: k
+    allocate(t%name(d%n_sets + d%n_blocks + d%n_patches + d%n_surfaces), t%kind(size(t%name)))
+    do k = 1, d%n_sets
+      if (d%sets(k)%kind == SET_NODE) then
+        call add_name(t, d%sets(k)%name, NAME_NSET)
+      else
+        call add_name(t, d%sets(k)%name, ior(NAME_ELSET, NAME_NSET))
+      end if
+    end do
+    do k = 1, d%n_blocks
+      if (len_trim(d%blocks(k)%elset) > 0) call add_name(t, d%blocks(k)%elset, &
+          ior(NAME_ELSET, NAME_NSET))
+    end do
+    do k = 1, d%n_patches
+      call add_name(t, d%patches(k)%name, ior(NAME_PATCH, NAME_NSET))
+    end do
+    do k = 1, d%n_surfaces
+      call add_name(t, d%surfaces(k)%name, NAME_SURFACE)
+    end do
+  end subroutine collect_names
+
+  !> Adds `kind` to the entry of `name` (new entry when absent).
+  subroutine add_name(t, name, kind)
+    type(names_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind
+    integer :: k
+    do k = 1, t%n
+      if (t%name(k) == name) then
+        t%kind(k) = ior(t%kind(k), kind)
+        return
+      end if
+    end do
+    t%n = t%n + 1
+    t%name(t%n) = name
+    t%kind(t%n) = kind
+  end subroutine add_name
+
+  !> True when `name` is defined with (at least one bit of) `kind`.
+  logical function defined(t, name, kind)
+    type(names_t), intent(in) :: t
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind
+    integer :: k
+    defined = .false.
+    do k = 1, t%n
+      if (t%name(k) == name) then
+        defined = iand(t%kind(k), kind) /= 0
+        return
+      end if
+    end do
+  end function defined
+
+  !> Reports `name` at `where` when it is not defined as `kind` (described by `what`).
+  subroutine need(t, name, kind, what, where, card)
+    type(names_t), intent(in) :: t
+    character(len=*), intent(in) :: name, what, where, card
+    integer, intent(in) :: kind
+    if (len_trim(name) == 0) return
+    if (defined(t, name, kind)) return
+    call input_error(where, card//': '//what//' '//trim(name)//' is used but never defined')
+  end subroutine need
+
+  !> Every material has *ELASTIC and *DENSITY; element blocks and patches name a material.
+  subroutine check_materials(d)
+    type(deck_t), intent(in) :: d
+    integer :: k
+    do k = 1, d%n_materials
+      if (.not. d%materials(k)%has_elastic) call input_error(d%materials(k)%where, &
+          '*MATERIAL: material '//trim(d%materials(k)%name)//' has no *ELASTIC card '// &
+          '(expected *ELASTIC with "E, nu")')
+      if (.not. d%materials(k)%has_density) call input_error(d%materials(k)%where, &
+          '*MATERIAL: material '//trim(d%materials(k)%name)//' has no *DENSITY card '// &
+          '(expected *DENSITY with "rho")')
+    end do
+    do k = 1, d%n_blocks
+      if (.not. has_material(d, d%blocks(k)%material)) call input_error(d%blocks(k)%where, &
+          '*ELEMENT: material '//trim(d%blocks(k)%material)//' is used but never defined')
+    end do
+    do k = 1, d%n_patches
+      if (.not. has_material(d, d%patches(k)%material)) call input_error( &
+          d%patches(k)%where, '*PATCH: material '//trim(d%patches(k)%material)// &
+          ' is used but never defined')
+    end do
+  end subroutine check_materials
+
+  logical function has_material(d, name)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(in) :: name
+    integer :: k
+    has_material = .false.
+    do k = 1, d%n_materials
+      if (d%materials(k)%name == name) has_material = .true.
+    end do
+  end function has_material
+
+  !> Unique node and element ids; element nodes and surface elements defined.
+  subroutine check_nodes_elements(d, t)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(in) :: t
+    integer, allocatable :: node_sorted(:), node_perm(:), el_ids(:), el_sorted(:), el_perm(:)
+    character(len=where_len), allocatable :: el_where(:)
+    integer :: k, b, e, a, m, s
+
+    call sort_ids(d%node_ids, node_sorted, node_perm)
+    do k = 2, size(node_sorted)
+      if (node_sorted(k) == node_sorted(k - 1)) call input_error( &
+          d%node_where(node_perm(k)), '*NODE: duplicate node id '//str(node_sorted(k))// &
+          ' (first defined at '//trim(d%node_where(node_perm(k - 1)))//')')
+    end do
+
+    m = 0
+    do b = 1, d%n_blocks
+      m = m + size(d%blocks(b)%ids)
+    end do
+    allocate(el_ids(m), el_where(m))
+    m = 0
+    do b = 1, d%n_blocks
+      do e = 1, size(d%blocks(b)%ids)
+        m = m + 1
+        el_ids(m) = d%blocks(b)%ids(e)
+        el_where(m) = trim(d%blocks(b)%file)//':'//str(d%blocks(b)%line(e))
+        do a = 1, d%blocks(b)%nen
+          if (.not. found(node_sorted, d%blocks(b)%conn(a, e))) call input_error( &
+              el_where(m), '*ELEMENT: element '//str(el_ids(m))//' references node '// &
+              str(d%blocks(b)%conn(a, e))//', which is not defined by any *NODE card')
+        end do
+      end do
+    end do
+    call sort_ids(el_ids, el_sorted, el_perm)
+    do k = 2, size(el_sorted)
+      if (el_sorted(k) == el_sorted(k - 1)) call input_error(el_where(el_perm(k)), &
+          '*ELEMENT: duplicate element id '//str(el_sorted(k))//' (first defined at '// &
+          trim(el_where(el_perm(k - 1)))//')')
+    end do
+
+    do s = 1, d%n_surfaces
+      if (d%surfaces(s)%kind == SURF_PATCH) then
+        call need(t, d%surfaces(s)%patch, NAME_PATCH, 'patch', d%surfaces(s)%where, &
+            '*SURFACE')
+        cycle
+      end if
+      do k = 1, size(d%surfaces(s)%elem)
+        if (d%surfaces(s)%elem(k) > 0) then
+          if (.not. found(el_sorted, d%surfaces(s)%elem(k))) call input_error( &
+              d%surfaces(s)%entry_where(k), '*SURFACE: element '// &
+              str(d%surfaces(s)%elem(k))//' is not defined by any *ELEMENT card')
+        else
+          call need(t, d%surfaces(s)%elset(k), NAME_ELSET, 'element set', &
+              d%surfaces(s)%entry_where(k), '*SURFACE')
+        end if
+      end do
+    end do
+  end subroutine check_nodes_elements
+
+  !> Each patch has knots in both directions and control points; *ELEVATE / *REFINE refer
+  !! to known patches and never lower the degree.
+  subroutine check_patches(d)
+    type(deck_t), intent(in) :: d
+    integer, allocatable :: deg(:,:)
+    integer :: k, p, dir
+
+    allocate(deg(2, d%n_patches))
+    do p = 1, d%n_patches
+      deg(:, p) = d%patches(p)%degree
+      do dir = 1, 2
+        if (.not. d%patches(p)%has_knots(dir)) call input_error(d%patches(p)%where, &
+            '*PATCH: patch '//trim(d%patches(p)%name)//' has no *KNOTS, DIRECTION='// &
+            str(dir)//' card (expected its knot vector)')
+      end do
+      if (.not. d%patches(p)%has_cp) call input_error(d%patches(p)%where, '*PATCH: patch '// &
+          trim(d%patches(p)%name)//' has no *CONTROL POINTS card (expected n1*n2 lines '// &
+          '"x, y, w")')
+    end do
+    do k = 1, d%n_patch_ops
+      associate (op => d%patch_ops(k))
+        p = 0
+        do dir = 1, d%n_patches
+          if (d%patches(dir)%name == op%patch) p = dir
+        end do
+        if (p == 0) then
+          call input_error(op%where, trim(merge('*ELEVATE', '*REFINE ', &
+              op%kind == OP_ELEVATE))//': unknown patch '//trim(op%patch)// &
+              ' (expected the NAME= of a *PATCH)')
+          cycle
+        end if
+        if (op%kind /= OP_ELEVATE) cycle
+        if (any(op%values < deg(:, p))) then
+          call input_error(op%where, '*ELEVATE: DEGREE='//str(op%values(1))//','// &
+              str(op%values(2))//' is below the current degree '//str(deg(1, p))//','// &
+              str(deg(2, p))//' of patch '//trim(op%patch)//' (expected q_i >= p_i)')
+        else
+          deg(:, p) = op%values
+        end if
+      end associate
+    end do
+  end subroutine check_patches
+
+  !> Set references are defined (with the right kind) and do not form cycles.
+  subroutine check_sets(d, t)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(in) :: t
+    integer, allocatable :: state(:)
+    integer :: s, k
+
+    do s = 1, d%n_sets
+      associate (st => d%sets(s))
+        if (st%side /= SIDE_NONE) call need(t, st%patch, NAME_PATCH, 'patch', st%where, &
+            '*NSET')
+        do k = 1, size(st%refs)
+          if (st%kind == SET_NODE) then
+            call need(t, st%refs(k), NAME_NSET, 'node set', st%ref_where(k), '*NSET')
+          else
+            call need(t, st%refs(k), NAME_ELSET, 'element set', st%ref_where(k), '*ELSET')
+          end if
+        end do
+      end associate
+    end do
+    allocate(state(d%n_sets))
+    state = 0
+    do s = 1, d%n_sets
+      if (state(s) == 0) call visit(d, s, state)
+    end do
+  end subroutine check_sets
+
+  !> Depth-first walk of set references; reports a reference that closes a cycle.
+  recursive subroutine visit(d, s, state)
+    type(deck_t), intent(in) :: d
+    integer, intent(in) :: s
+    integer, intent(inout) :: state(:)
+    integer :: k, r, j
+    state(s) = 1
+    do k = 1, size(d%sets(s)%refs)
+      r = 0
+      do j = 1, d%n_sets
+        if (d%sets(j)%name == d%sets(s)%refs(k)) r = j
+      end do
+      if (r == 0) cycle
+      if (state(r) == 1) then
+        call input_error(d%sets(s)%ref_where(k), '*'//trim(merge('NSET ', 'ELSET', &
+            d%sets(s)%kind == SET_NODE))//': set '//trim(d%sets(s)%name)//' includes '// &
+            trim(d%sets(r)%name)//', which includes '//trim(d%sets(s)%name)// &
+            ' (a cycle of set references)')
+      else if (state(r) == 0) then
+        call visit(d, r, state)
+      end if
+    end do
+    state(s) = 2
+  end subroutine visit
+
+  !> Names used by conditions, mass, damping, contact pairs and walls are defined.
+  subroutine check_uses(d, t)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(in) :: t
+    integer :: k
+    do k = 1, d%n_boundaries
+      if (.not. is_id(d%boundaries(k)%target)) call need(t, d%boundaries(k)%target, &
+          NAME_NSET, 'node set', d%boundaries(k)%where, '*BOUNDARY')
+    end do
+    do k = 1, d%n_velocities
+      if (.not. is_id(d%velocities(k)%target)) call need(t, d%velocities(k)%target, &
+          NAME_NSET, 'node set', d%velocities(k)%where, '*INITIAL CONDITIONS')
+    end do
+    do k = 1, d%n_masses
+      call need(t, d%masses(k)%elset, NAME_ELSET, 'element set', d%masses(k)%where, '*MASS')
+      call need(t, d%masses(k)%patch, NAME_PATCH, 'patch', d%masses(k)%where, '*MASS')
+    end do
+    do k = 1, d%n_dampings
+      call need(t, d%dampings(k)%elset, NAME_ELSET, 'element set', d%dampings(k)%where, &
+          '*DAMPING')
+      call need(t, d%dampings(k)%patch, NAME_PATCH, 'patch', d%dampings(k)%where, '*DAMPING')
+    end do
+    do k = 1, d%n_pairs
+      call need(t, d%pairs(k)%first, NAME_SURFACE, 'surface', d%pairs(k)%where, &
+          '*CONTACT PAIR')
+      call need(t, d%pairs(k)%second, NAME_SURFACE, 'surface', d%pairs(k)%where, &
+          '*CONTACT PAIR')
+    end do
+    do k = 1, d%n_walls
+      call need(t, d%walls(k)%surface, NAME_SURFACE, 'surface', d%walls(k)%where, &
+          '*RIGID WALL')
+    end do
+  end subroutine check_uses
+
+  !> True when `s` is a node id written as digits.
+  pure logical function is_id(s)
+    character(len=*), intent(in) :: s
+    integer :: k
+    is_id = len_trim(s) > 0
+    do k = 1, len_trim(s)
+      if (s(k:k) < '0' .or. s(k:k) > '9') is_id = .false.
+    end do
+  end function is_id
+
+  !> Sorted copy of `ids` and the permutation: sorted(k) = ids(perm(k)) (stable merge sort).
+  subroutine sort_ids(ids, sorted, perm)
+    integer, intent(in) :: ids(:)
+    integer, allocatable, intent(out) :: sorted(:), perm(:)
+    integer, allocatable :: tmp(:)
+    integer :: n, width, lo, mid, hi, i, j, k
+    n = size(ids)
+    allocate(perm(n), tmp(n))
+    perm = [(k, k = 1, n)]
+    width = 1
+    do while (width < n)
+      do lo = 1, n, 2*width
+        mid = min(lo + width, n + 1)
+        hi = min(lo + 2*width, n + 1)
+        i = lo
+        j = mid
+        do k = lo, hi - 1
+          if (i < mid .and. (j >= hi .or. ids(perm(min(i, n))) <= ids(perm(min(j, n))))) then
+            tmp(k) = perm(i)
+            i = i + 1
+          else
+            tmp(k) = perm(j)
+            j = j + 1
+          end if
+        end do
+      end do
+      perm = tmp
+      width = 2*width
+    end do
+    sorted = ids(perm)
+  end subroutine sort_ids
+
+  !> Binary search of `id` in the sorted array `a`.
+  pure logical function found(a, id)
+    integer, intent(in) :: a(:)
+    integer, intent(in) :: id
+    integer :: lo, hi, mid
+    found = .false.
+    lo = 1
+    hi = size(a)
+    do while (lo <= hi)
+      mid = (lo + hi)/2
+      if (a(mid) == id) then
+        found = .true.
+        return
+      else if (a(mid) < id) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function found
+
+end module ictus_io_deck_checks

@@ -1,0 +1,174 @@
+!> Assembly of the constant operators of linear elastodynamics: the stiffness (2x2 block CSR),
+!! the consistent mass (scalar CSR, where asked for) and the lumped nodal masses.
+!!
+!! This runs once before the time loop. Elements are processed through the element library
+!! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
+module ictus_solver_assemble
+  use ictus_core_kinds, only: dp
+  use ictus_elements_types, only: elem_shape_t, ETYPE_IGA
+  use ictus_elements_library, only: element_shape_data
+  use ictus_elements_iga, only: iga_shape_data
+  use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_min_detj
+  use ictus_materials_elastic, only: elastic_dmat
+  use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
+  use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
+  use ictus_solver_model, only: model_t
+  use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
+      csr_init, bsr_add_element, csr_add_element
+  implicit none
+  private
+  public :: operators_t, assemble_operators, element_shape, shape_cache_t
+
+  !> The assembled constant operators.
+  type :: operators_t
+    !> Stiffness K (2x2 blocks).
+    type(bsr_t) :: k
+    !> True when at least one element uses the consistent mass.
+    logical :: consistent = .false.
+    !> Consistent mass (scalar; lumped elements add their diagonal into it).
+    type(csr_t) :: m
+    !> Diagonal nodal masses (nn): the lumped masses, or for a consistent mass its row sums.
+    real(dp), allocatable :: m_diag(:)
+    !> Total mass of the model.
+    real(dp) :: total_mass = 0.0_dp
+    !> Positive diagonal masses (nn): the lumped masses, or for consistent-mass elements the
+    !! HRZ lumping of their consistent mass. Used for damping and the positivity check.
+    real(dp), allocatable :: m_pos(:)
+    !> Element contributions to damping: sum over elements of alpha_e * m_pos (nn).
+    real(dp), allocatable :: c_diag(:)
+  end type operators_t
+
+  !> Shape data of the Lagrange element types, computed once per type and rule.
+  type :: shape_cache_t
+    logical :: ready(3, 2:3, 2) = .false.
+    type(elem_shape_t) :: shp(3, 2:3, 2)
+  end type shape_cache_t
+
+contains
+
+  !> Shape data of element `e` for `ngauss` Gauss points per direction. `slot` keeps two rules
+  !! of the same type apart (1: the element's rule, 2: the HRZ 2x2 rule).
+  subroutine element_shape(model, e, ngauss, cache, slot, shp)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: e, ngauss(2), slot
+    type(shape_cache_t), intent(inout) :: cache
+    type(elem_shape_t), intent(inout) :: shp
+    integer :: ip, ie, i1, i2, t
+    if (model%etype(e) == ETYPE_IGA) then
+      ip = model%patch(e)
+      ie = model%patch_elem(e)
+      associate (pt => model%patches(ip))
+        i1 = mod(ie - 1, pt%nel(1)) + 1
+        i2 = (ie - 1)/pt%nel(1) + 1
+        call iga_shape_data(pt%p, pt%c1(:, :, i1), pt%c2(:, :, i2), &
+            pt%cp(3, pt%ien(:, ie)), ngauss, shp)
+      end associate
+    else
+      t = model%etype(e)
+      if (.not. cache%ready(t, ngauss(1), slot)) then
+        call element_shape_data(t, ngauss(1), cache%shp(t, ngauss(1), slot))
+        cache%ready(t, ngauss(1), slot) = .true.
+      end if
+      shp = cache%shp(t, ngauss(1), slot)
+    end if
+  end subroutine element_shape
+
+  !> Assembles K, the consistent mass (if any element asks for it) and the nodal masses.
+  !! Elements with det J <= 0 are listed in `bad_jac` (nbad_jac of them) and skipped; nodes
+  !! whose assembled lumped mass is not positive are listed in `bad_mass` (a consistent mass
+  !! is checked through its HRZ diagonal, which is positive for any valid element).
+  subroutine assemble_operators(model, ops, bad_jac, nbad_jac, bad_mass, nbad_mass)
+    type(model_t), intent(in) :: model
+    type(operators_t), intent(out) :: ops
+    integer, allocatable, intent(out) :: bad_jac(:), bad_mass(:)
+    integer, intent(out) :: nbad_jac, nbad_mass
+    type(graph_t) :: g
+    type(shape_cache_t) :: cache
+    type(elem_shape_t) :: shp, shp2
+    real(dp), allocatable :: xl(:,:), ke(:,:), me(:,:), me2(:,:), ml(:), diag(:)
+    real(dp) :: d(3, 3), mass_e, mass_e2
+    integer :: e, nen, ierr, i, mt, nn
+    nn = model%nn
+    call graph_from_elements(nn, model%nel, model%nen_max, model%nen, model%conn, g)
+    call bsr_init(ops%k, g)
+    ops%consistent = any(model%mass_kind == MASS_CONSISTENT)
+    if (ops%consistent) call csr_init(ops%m, g)
+    allocate(ops%m_diag(nn), ops%m_pos(nn), ops%c_diag(nn), source=0.0_dp)
+    allocate(bad_jac(model%nel))
+    nbad_jac = 0
+    ops%total_mass = 0.0_dp
+    do e = 1, model%nel
+      nen = model%nen(e)
+      if (allocated(xl)) then
+        if (size(xl, 2) /= nen) deallocate(xl, ke, me, me2, ml, diag)
+      end if
+      if (.not. allocated(xl)) allocate(xl(2, nen), ke(2*nen, 2*nen), me(nen, nen), &
+          me2(nen, nen), ml(nen), diag(nen))
+      xl = model%x0(:, model%conn(1:nen, e))
+      mt = model%mat(e)
+      call elastic_dmat(model%young(mt), model%poisson(mt), model%plane_strain, d)
+      call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
+      call solid2d_stiffness(nen, shp, xl, d, model%thickness, ke, ierr)
+      if (ierr /= 0) then
+        nbad_jac = nbad_jac + 1
+        bad_jac(nbad_jac) = e
+        cycle
+      end if
+      call bsr_add_element(ops%k, nen, model%conn(1:nen, e), ke)
+      call solid2d_mass(nen, shp, xl, model%density(mt), model%thickness, me, mass_e, ierr)
+      ops%total_mass = ops%total_mass + mass_e
+      select case (model%mass_kind(e))
+      case (MASS_CONSISTENT)
+        call csr_add_element(ops%m, nen, model%conn(1:nen, e), me)
+        do i = 1, nen
+          diag(i) = me(i, i)
+        end do
+        call lump_hrz(nen, diag, mass_e, ml)
+      case (MASS_ROW_SUM)
+        call lump_row_sum(nen, me, ml)
+      case (MASS_HRZ)
+        if (model%hrz_rule(e) == HRZ_GAUSS2 .and. model%etype(e) /= ETYPE_IGA) then
+          call element_shape(model, e, [2, 2], cache, 2, shp2)
+          call solid2d_mass(nen, shp2, xl, model%density(mt), model%thickness, me2, mass_e2, &
+              ierr)
+          do i = 1, nen
+            diag(i) = me2(i, i)
+          end do
+        else
+          do i = 1, nen
+            diag(i) = me(i, i)
+          end do
+        end if
+        call lump_hrz(nen, diag, mass_e, ml)
+      case (MASS_ALPHA)
+        call lump_alpha_q8(mass_e, model%mass_alpha(e), ml)
+      end select
+      if (ops%consistent .and. model%mass_kind(e) /= MASS_CONSISTENT) then
+        do i = 1, nen
+          me2(:, i) = 0.0_dp
+          me2(i, i) = ml(i)
+        end do
+        call csr_add_element(ops%m, nen, model%conn(1:nen, e), me2)
+      end if
+      ops%m_pos(model%conn(1:nen, e)) = ops%m_pos(model%conn(1:nen, e)) + ml
+      ops%c_diag(model%conn(1:nen, e)) = ops%c_diag(model%conn(1:nen, e)) &
+          + model%damping(e)*ml
+      if (model%mass_kind(e) == MASS_CONSISTENT) then
+        ! the row sums of the consistent mass, reported as its nodal masses
+        do i = 1, nen
+          ml(i) = sum(me(i, :))
+        end do
+      end if
+      ops%m_diag(model%conn(1:nen, e)) = ops%m_diag(model%conn(1:nen, e)) + ml
+    end do
+    ! nodes that carry elements must have positive mass
+    allocate(bad_mass(nn))
+    nbad_mass = 0
+    do i = 1, nn
+      if (g%row_ptr(i + 1) - g%row_ptr(i) > 1 .and. .not. ops%m_pos(i) > 0.0_dp) then
+        nbad_mass = nbad_mass + 1
+        bad_mass(nbad_mass) = i
+      end if
+    end do
+  end subroutine assemble_operators
+end module ictus_solver_assemble

@@ -1,0 +1,113 @@
+"""Shared helpers of the verification cases: run ictus on a deck, read its results file,
+compare numbers with expected values from physics, print one line per check and a closing
+line, exit non-zero on any failure.
+
+Every case is run by CTest as
+    python3 <case>/check.py --ictus <path to ictus> --work <scratch dir>
+"""
+import argparse
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "mesh"))
+
+
+def arguments():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--ictus", required=True, help="the ictus executable")
+    ap.add_argument("--work", required=True, help="scratch directory for decks and results")
+    ap.add_argument("--mpiexec", default="", help="launcher prefix, e.g. 'mpirun -np 2'")
+    a = ap.parse_args()
+    os.makedirs(a.work, exist_ok=True)
+    return a
+
+
+def run_ictus(args, deck, out=None, expect_status=0, extra=()):
+    """Runs ictus on `deck`, returns (status, stdout+stderr). Fails the case on a wrong status."""
+    cmd = (args.mpiexec.split() if args.mpiexec else []) + [args.ictus, deck] + list(extra)
+    if out:
+        cmd += ["-o", out]
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if p.returncode != expect_status:
+        print(p.stdout)
+        print(f"FAILED: {' '.join(cmd)} exited with {p.returncode}, expected {expect_status}")
+        sys.exit(1)
+    return p.returncode, p.stdout
+
+
+class Results:
+    """Read access to an ictus results file."""
+
+    def __init__(self, path):
+        self.f = h5py.File(path, "r")
+
+    def attr(self, name):
+        v = self.f.attrs[name]
+        return v.decode() if isinstance(v, bytes) else v
+
+    def history(self, name):
+        return np.asarray(self.f["history/" + name])
+
+    def field_steps(self):
+        return sorted(self.f["fields"].keys())
+
+    def field(self, step, name):
+        return np.asarray(self.f[f"fields/{step}/{name}"])
+
+    def field_time(self, step):
+        return float(self.f[f"fields/{step}"].attrs["time"])
+
+    def model(self, name):
+        return np.asarray(self.f["model/" + name])
+
+
+class Checker:
+    def __init__(self, case):
+        self.case, self.n, self.failed = case, 0, 0
+
+    def close(self, got, want, rtol, label):
+        self.n += 1
+        err = abs(got - want) / (abs(want) if want != 0 else 1.0)
+        ok = err <= rtol
+        self.failed += not ok
+        print(f"  {'ok  ' if ok else 'FAIL'} {label}: got {got:.6g}, expected {want:.6g}, "
+              f"rel. error {err:.3g} (tolerance {rtol:.3g})")
+
+    def below(self, got, limit, label):
+        self.n += 1
+        ok = got <= limit
+        self.failed += not ok
+        print(f"  {'ok  ' if ok else 'FAIL'} {label}: {got:.6g} (limit {limit:.6g})")
+
+    def true(self, cond, label):
+        self.n += 1
+        self.failed += not cond
+        print(f"  {'ok  ' if cond else 'FAIL'} {label}")
+
+    def finish(self):
+        verdict = "PASSED" if self.failed == 0 and self.n > 0 else "FAILED"
+        print(f"VERIFICATION {self.case}: {verdict} ({self.n - self.failed} of {self.n} checks)")
+        sys.exit(0 if verdict == "PASSED" else 1)
+
+
+def material_block(name="MAT", e=1000.0, nu=0.2, rho=1.0):
+    return f"*MATERIAL, NAME={name}\n*ELASTIC\n{e}, {nu}\n*DENSITY\n{rho}\n"
+
+
+def rect_mesh(**kw):
+    """The cards of a structured rectangle (scripts/mesh/rect.py) as a string."""
+    import io
+    import types
+    import rect
+    defaults = dict(type="Q8", x0=0.0, y0=0.0, first_node=1, first_element=1, elset="BODY",
+                    material="MAT", prefix="", distort=0.0)
+    defaults.update(kw)
+    buf = io.StringIO()
+    rect.write_mesh(types.SimpleNamespace(**defaults), buf)
+    return buf.getvalue()
