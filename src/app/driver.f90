@@ -10,11 +10,13 @@ module ictus_app_driver
   use ictus_core_logger, only: log_info, log_verbose, log_is, LOG_VERBOSE_LEVEL
   use ictus_core_strings, only: str, join_ids
   use ictus_core_timer, only: wall_time
-  use ictus_parallel_env, only: env_size
-  use ictus_elements_types, only: etype_name
-  use ictus_mass_types, only: mass_name
+  use ictus_parallel_env, only: env_size, allreduce_max, allreduce_sum, allgather_int, &
+      allgatherv_real
+  use ictus_elements_types, only: etype_name, ETYPE_Q8
+  use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
-  use ictus_solver_assemble, only: operators_t, assemble_operators
+  use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
+  use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
@@ -46,18 +48,23 @@ contains
     type(run_options_t), intent(in) :: opt
     type(deck_t) :: deck
     type(model_t) :: model
+    type(domain_t) :: dom
     type(operators_t) :: ops
     type(mass_op_t) :: mop
     real(dp) :: omega, dt_crit, dt
-    integer :: iters
+    integer :: iters, ierr
     call read_deck(opt%deck_path, deck)
     if (error_count() > 0) call input_failure()
     call build_model(deck, model)
     if (error_count() > 0) call input_failure()
-    call check_operators(model, ops)
+    call domain_init(dom, model, ierr)
+    if (ierr /= 0) call fatal('partitioning', 'METIS could not partition the mesh into '// &
+        str(env_size())//' parts')
+    call check_operators(model, dom, ops)
     if (error_count() > 0) call input_failure()
-    call mass_op_init(mop, model%nn, ops%consistent, ops%m, ops%m_diag, model%fixed)
-    call omega_max_power(ops%k, mop, model%node_id, omega, iters, 1.0e-6_dp, 2000)
+    call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
+        model%fixed(:, dom%halo%gid))
+    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-6_dp, 2000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
     call log_info('stability: omega_max = '//str(omega)//' (power iteration, '//str(iters)// &
@@ -74,14 +81,14 @@ contains
       dt = model%safety*dt_crit
       call log_info('automatic time step: '//str(model%safety)//' * 2/omega_max = '//str(dt))
     end if
-    call log_summary(model, ops, dt)
+    call log_summary(model, dom, ops, dt)
     if (opt%check_only) then
       call log_info('check: the deck is valid; no results written')
       return
     end if
     call log_info('processed deck:')
     call log_info(deck_echo(deck, .false.))
-    call time_loop(opt, deck, model, ops, mop, dt, omega)
+    call time_loop(opt, deck, model, dom, ops, mop, dt, omega)
   end subroutine driver_run
 
   !> Ends a run whose input is wrong: exit status 1, nothing written.
@@ -90,13 +97,16 @@ contains
     call terminate(1)
   end subroutine input_failure
 
-  !> Assembles the operators and reports inverted elements and non-positive nodal masses.
-  subroutine check_operators(model, ops)
+  !> Checks the Jacobians (all ranks, whole model), assembles this rank's operators and
+  !! reports non-positive nodal masses found on any rank.
+  subroutine check_operators(model, dom, ops)
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     type(operators_t), intent(out) :: ops
-    integer, allocatable :: bad_jac(:), bad_mass(:)
-    integer :: nbj, nbm, k, e
-    call assemble_operators(model, ops, bad_jac, nbj, bad_mass, nbm)
+    integer, allocatable :: bad_jac(:), bad_mass(:), counts(:)
+    real(dp), allocatable :: all_bad(:)
+    integer :: nbj, nbm, k, e, ntot
+    call check_jacobians(model, bad_jac, nbj)
     do k = 1, min(nbj, 20)
       e = bad_jac(k)
       call input_error(element_where(e), etype_name(model%etype(e))//' element '// &
@@ -105,15 +115,50 @@ contains
     end do
     if (nbj > 20) call input_error('', str(nbj - 20)//' more elements with a non-positive '// &
         'Jacobian determinant')
-    if (nbm > 0) then
-      call input_error('*MASS', 'the lumped mass is not positive at nodes '// &
-          join_ids(model%node_id(bad_mass(1:nbm)), 8)//' (mass type '// &
-          mass_name(model%mass_kind(first_element_of(model, bad_mass(1))))// &
-          '): row-sum lumping of 8-node serendipity elements gives their corner nodes a '// &
-          'negative mass (-1/12 of the element mass on a square). Use TYPE=HRZ, '// &
-          'TYPE=ALPHA or TYPE=CONSISTENT for these elements')
-    end if
+    if (nbj > 0) return
+    call assemble_operators(model, dom, ops, bad_mass, nbm)
+    ! the non-positive masses of all ranks, in increasing global index
+    allocate(counts(env_size()))
+    call allgather_int(nbm, counts)
+    ntot = sum(counts)
+    if (ntot == 0) return
+    allocate(all_bad(ntot))
+    call allgatherv_real(real(bad_mass(1:nbm), dp), counts, all_bad)
+    bad_mass = nint(all_bad)
+    call sort_ints(bad_mass)
+    e = first_element_of(model, bad_mass(1))
+    call input_error('*MASS', 'the lumped mass is not positive at nodes '// &
+        join_ids(model%node_id(bad_mass), 8)//' ('//etype_name(model%etype(e))// &
+        ' elements, mass type '//mass_name(model%mass_kind(e))//')'//mass_reason(model, e))
   end subroutine check_operators
+
+  !> Why a lumping gives non-positive masses, when we know.
+  function mass_reason(model, e) result(why)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: e
+    character(len=:), allocatable :: why
+    why = ''
+    if (model%mass_kind(e) == MASS_ROW_SUM .and. model%etype(e) == ETYPE_Q8) why = &
+        ': row-sum lumping of 8-node serendipity elements gives their corner nodes a '// &
+        'negative mass (-1/12 of the element mass on a square). Use TYPE=HRZ, TYPE=ALPHA '// &
+        'or TYPE=CONSISTENT for these elements'
+  end function mass_reason
+
+  !> Sorts a short list of integers in place.
+  subroutine sort_ints(v)
+    integer, intent(inout) :: v(:)
+    integer :: i, j, x
+    do i = 2, size(v)
+      x = v(i)
+      j = i - 1
+      do while (j >= 1)
+        if (v(j) <= x) exit
+        v(j + 1) = v(j)
+        j = j - 1
+      end do
+      v(j + 1) = x
+    end do
+  end subroutine sort_ints
 
   !> An element that holds node i.
   integer function first_element_of(model, i)
@@ -129,8 +174,9 @@ contains
     end do
   end function first_element_of
 
-  subroutine log_summary(model, ops, dt)
+  subroutine log_summary(model, dom, ops, dt)
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     type(operators_t), intent(in) :: ops
     real(dp), intent(in) :: dt
     integer :: nsteps
@@ -138,6 +184,8 @@ contains
     call log_info('model: '//str(model%nn)//' nodes/control points, '//str(model%nel)// &
         ' elements, '//str(model%npatch)//' patches, '//str(count(model%fixed))// &
         ' fixed dofs, total mass '//str(ops%total_mass))
+    if (dom%nparts > 1) call log_info('partition: '//str(dom%nparts)//' METIS parts; rank 0 '// &
+        'owns '//str(dom%nowned)//' nodes and reads '//str(dom%nlocal - dom%nowned)//' ghosts')
     if (ops%consistent) then
       call log_info('mass matrix: consistent (conjugate-gradient solve every step)')
     else
@@ -168,10 +216,11 @@ contains
   end function default_out
 
   !> The time loop with history and field output, progress lines and blow-up detection.
-  subroutine time_loop(opt, deck, model, ops, mop, dt, omega)
+  subroutine time_loop(opt, deck, model, dom, ops, mop, dt, omega)
     type(run_options_t), intent(in) :: opt
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
+    type(domain_t), intent(inout) :: dom
     type(operators_t), intent(in) :: ops
     type(mass_op_t), intent(inout) :: mop
     real(dp), intent(in) :: dt, omega
@@ -182,6 +231,7 @@ contains
     real(dp), allocatable :: alpha(:)
     real(dp) :: e0, e_total, t0, t_last_print, elapsed
     integer :: nsteps, n, field_every, print_every
+    integer, allocatable :: gid(:)
     logical :: record, field
     out = default_out(opt%deck_path)
     if (allocated(opt%out_path)) out = opt%out_path
@@ -189,33 +239,35 @@ contains
     field_every = model%field_every
     if (field_every <= 0) field_every = max(1, nsteps/20)
     print_every = max(1, nsteps/10)
-    allocate(alpha(model%nn), source=0.0_dp)
+    gid = dom%halo%gid(1:dom%nowned)
+    allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-    call results_open(res, out, model, deck_echo(deck, .true.), env_size(), ops%m_diag, &
+    call results_open(res, out, model, deck_echo(deck, .true.), env_size(), ops%m_diag, gid, &
         omega, dt)
     call log_info('results: '//out)
-    call state_init(s, ops%k, mop, model%u_fixed, model%v0, alpha, ops%m_pos, dt)
-    if (s%ierr /= 0) call runtime_failure(res, s, model, 'the consistent-mass solve did '// &
-        'not converge at the start')
+    call state_init(s, ops%k, mop, dom, model%u_fixed(:, dom%halo%gid), &
+        model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
+    if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass solve '// &
+        'did not converge at the start')
     e0 = 0.0_dp
     t0 = wall_time()
     t_last_print = t0
     do n = 0, nsteps
       record = mod(n, model%history_every) == 0 .or. n == nsteps
       field = mod(n, field_every) == 0 .or. n == nsteps
-      call step_predict(s, ops%k, mop, record .or. field)
-      if (s%ierr /= 0) call runtime_failure(res, s, model, 'the consistent-mass solve did '// &
-          'not converge')
+      call step_predict(s, ops%k, mop, dom, record .or. field)
+      if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass solve '// &
+          'did not converge')
       if (record) then
         rec = history_record_t(s%t, dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
         call results_history(res, rec)
         e_total = s%e_kin + s%e_strain + s%e_contact - s%w_ext
         if (n == 0) e0 = e_total
-        call check_blowup(res, s, model, e0)
+        call check_blowup(res, s, model, dom, e0)
       end if
-      if (field) call results_field(res, n, s%t, s%u, s%v_mid)
+      if (field) call results_field(res, n, s%t, s%u, s%v_mid, gid)
       if (n == nsteps) exit
-      call step_finish(s)
+      call step_finish(s, dom)
       elapsed = wall_time() - t0
       if (mod(n + 1, print_every) == 0 .or. wall_time() - t_last_print > 10.0_dp) then
         t_last_print = wall_time()
@@ -248,45 +300,50 @@ contains
   end subroutine report_energy
 
   !> Stops the run (exit 2) when the energies are not finite or have grown without bound.
-  subroutine check_blowup(res, s, model, e0)
+  !! The energies are global sums, so every rank takes the same decision.
+  subroutine check_blowup(res, s, model, dom, e0)
     type(results_t), intent(inout) :: res
     type(state_t), intent(in) :: s
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     real(dp), intent(in) :: e0
     real(dp) :: e
     e = s%e_kin + s%e_strain
     if (.not. ieee_is_finite(e)) then
-      call runtime_failure(res, s, model, 'the solution is not finite (NaN or overflow)')
+      call runtime_failure(res, s, model, dom, 'the solution is not finite (NaN or overflow)')
     else if (e0 > 0.0_dp .and. e > 1.0e3_dp*e0) then
-      call runtime_failure(res, s, model, 'the solution blows up: kinetic + strain energy '// &
-          str(e)//' is more than 1000 times the initial energy '//str(e0)// &
+      call runtime_failure(res, s, model, dom, 'the solution blows up: kinetic + strain '// &
+          'energy '//str(e)//' is more than 1000 times the initial energy '//str(e0)// &
           ' (unstable time step?)')
     end if
   end subroutine check_blowup
 
   !> Reports a run-time failure with the step, time and the node with the largest (or a
-  !! non-finite) velocity, closes the results as failed and exits with status 2.
-  subroutine runtime_failure(res, s, model, why)
+  !! non-finite) velocity, closes the results as failed and exits with status 2. Collective.
+  subroutine runtime_failure(res, s, model, dom, why)
     type(results_t), intent(inout) :: res
     type(state_t), intent(in) :: s
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     character(len=*), intent(in) :: why
     integer :: i, worst
-    real(dp) :: vmax, vi
+    real(dp) :: vmax, vi, vglob
     character(len=:), allocatable :: msg
-    worst = 1
+    worst = 0
     vmax = -1.0_dp
-    do i = 1, model%nn
+    do i = 1, dom%nowned
       vi = s%v(1, i)**2 + s%v(2, i)**2
-      if (.not. ieee_is_finite(vi)) then
-        worst = i
-        exit
-      end if
+      if (.not. ieee_is_finite(vi)) vi = huge(1.0_dp)
       if (vi > vmax) then
         vmax = vi
-        worst = i
+        worst = dom%halo%gid(i)
       end if
     end do
+    vglob = vmax
+    call allreduce_max(vglob)
+    if (vmax < vglob) worst = 0
+    call allreduce_max(worst)
+    worst = max(worst, 1)
     msg = 'step '//str(s%step)//', t = '//str(s%t)//': '//why//'; worst at node '// &
         str(model%node_id(worst))//' ('//str(model%x0(1, worst), 6)//', '// &
         str(model%x0(2, worst), 6)//')'

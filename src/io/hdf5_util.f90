@@ -5,12 +5,12 @@
 !! the file layout does not depend on the number of ranks. Every HDF5 status is checked; a
 !! failure is a run-time error naming the object.
 module ictus_io_hdf5_util
-  use hdf5, only: hid_t, hsize_t, h5open_f, h5fcreate_f, h5fclose_f, &
+  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, &
       h5fflush_f, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
       h5pset_libver_bounds_f, h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5gopen_f, &
       h5screate_f, h5screate_simple_f, h5sclose_f, h5sselect_none_f, h5sselect_hyperslab_f, &
       h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dset_extent_f, h5dget_space_f, &
-      h5sget_simple_extent_dims_f, h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
+      h5sget_simple_extent_dims_f, h5sselect_elements_f, h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
       h5tset_size_f, h5tclose_f, h5lexists_f, &
       H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
       H5P_DATASET_CREATE_F, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, H5FD_MPIO_COLLECTIVE_F, &
@@ -23,12 +23,16 @@ module ictus_io_hdf5_util
   private
   public :: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, h5u_close_group, &
       h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, h5u_create_ext, h5u_append, &
-      h5u_exists
+      h5u_exists, h5u_write_rows
 
   !> Writes a whole dataset (data from rank 0).
   interface h5u_write
     module procedure write_real1, write_real2, write_int1, write_int2
   end interface h5u_write
+  !> Writes a dataset of nglobal rows of which every rank holds some (its owned nodes).
+  interface h5u_write_rows
+    module procedure write_rows1, write_rows2
+  end interface h5u_write_rows
   !> Appends records to an extendible dataset created by h5u_create_ext.
   interface h5u_append
     module procedure append_real1, append_real2, append_int1
@@ -270,6 +274,69 @@ contains
         file_space_id=fs, xfer_prp=dxpl)
     call close_ds(did, fs, ms, name, err)
   end subroutine write_int2
+
+  !> Dataset (nglobal, ncomp) [Fortran (ncomp, nglobal)] written collectively: each rank writes
+  !! the rows gid(1:n) from x(ncomp, n) by a point selection.
+  subroutine write_rows_any(loc, name, ncomp, n, x, gid, nglobal)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ncomp, n, nglobal
+    real(dp), intent(in) :: x(ncomp*n)
+    integer, intent(in) :: gid(n)
+    integer(hid_t) :: did, fs, ms
+    integer(hsize_t) :: dims(2), mdims(1)
+    integer(hsize_t), allocatable :: coord(:,:)
+    integer :: err, i, c, k, rank
+    rank = 2
+    if (ncomp == 1) rank = 1
+    dims = [int(ncomp, hsize_t), int(nglobal, hsize_t)]
+    if (rank == 1) dims(1) = int(nglobal, hsize_t)
+    call h5screate_simple_f(rank, dims(1:rank), fs, err)
+    call check(err, 'dataspace '//name)
+    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, fs, did, err)
+    call check(err, 'dataset '//name)
+    mdims(1) = int(max(ncomp*n, 1), hsize_t)
+    call h5screate_simple_f(1, mdims, ms, err)
+    if (n == 0) then
+      call h5sselect_none_f(fs, err)
+      call h5sselect_none_f(ms, err)
+    else
+      allocate(coord(rank, ncomp*n))
+      k = 0
+      do i = 1, n
+        do c = 1, ncomp
+          k = k + 1
+          if (rank == 1) then
+            coord(1, k) = int(gid(i), hsize_t)
+          else
+            coord(:, k) = [int(c, hsize_t), int(gid(i), hsize_t)]
+          end if
+        end do
+      end do
+      call h5sselect_elements_f(fs, H5S_SELECT_SET_F, rank, int(ncomp*n, size_t), &
+          coord, err)
+      call check(err, 'selecting rows of '//name)
+    end if
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, x, mdims, err, mem_space_id=ms, &
+        file_space_id=fs, xfer_prp=dxpl)
+    call close_ds(did, fs, ms, name, err)
+  end subroutine write_rows_any
+
+  subroutine write_rows1(loc, name, x, gid, nglobal)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:)
+    integer, intent(in) :: gid(:), nglobal
+    call write_rows_any(loc, name, 1, size(gid), x, gid, nglobal)
+  end subroutine write_rows1
+
+  subroutine write_rows2(loc, name, x, gid, nglobal)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer, intent(in) :: gid(:), nglobal
+    call write_rows_any(loc, name, size(x, 1), size(gid), x, gid, nglobal)
+  end subroutine write_rows2
 
   !> Creates an extendible dataset of records: (ncomp, 0) growing in the last Fortran
   !! dimension (HDF5 shape (nt, ncomp)), or (0) when ncomp = 0. `integer` selects the type.

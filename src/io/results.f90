@@ -12,7 +12,7 @@ module ictus_io_results
   use ictus_solver_model, only: model_t
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
-      h5u_create_ext, h5u_append
+      h5u_create_ext, h5u_append, h5u_write_rows
   use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t
   implicit none
   private
@@ -53,12 +53,14 @@ contains
 
   !> Creates the file and writes the root attributes and the model.
   !! `omega_max` is the estimated largest natural frequency, `dt` the time step used.
-  subroutine results_open(r, path, model, deck_text, ranks, m_diag, omega_max, dt)
+  !! `m_diag` holds the nodal masses of this rank's owned nodes `gid`.
+  subroutine results_open(r, path, model, deck_text, ranks, m_diag, gid, omega_max, dt)
     type(results_t), intent(out) :: r
     character(len=*), intent(in) :: path, deck_text
     type(model_t), intent(in) :: model
     integer, intent(in) :: ranks
     real(dp), intent(in) :: m_diag(:)
+    integer, intent(in) :: gid(:)
     real(dp), intent(in) :: omega_max, dt
     integer(hid_t) :: g
     integer :: k
@@ -86,7 +88,7 @@ contains
     call h5u_attr_string(r%file, 'deck', deck_text)
     call h5u_attr_real(r%file, 'omega_max', omega_max)
     call h5u_attr_real(r%file, 'dt', dt)
-    call write_model(r, model, m_diag)
+    call write_model(r, model, m_diag, gid)
     call h5u_group(r%file, 'history', g)
     call h5u_create_ext(g, 'time', 0, buffer_size)
     call h5u_create_ext(g, 'dt', 0, buffer_size)
@@ -110,10 +112,11 @@ contains
   end function ictus_version_string
 
   !> /model: coordinates, weights, masses, ids, element blocks and patches.
-  subroutine write_model(r, model, m_diag)
+  subroutine write_model(r, model, m_diag, gid)
     type(results_t), intent(inout) :: r
     type(model_t), intent(in) :: model
     real(dp), intent(in) :: m_diag(:)
+    integer, intent(in) :: gid(:)
     integer(hid_t) :: g, ge, gp
     integer :: t, ne, e, k, ip, ng, nen
     integer, allocatable :: conn(:,:), ids(:)
@@ -121,7 +124,7 @@ contains
     call h5u_group(r%file, 'model', g)
     call h5u_write(g, 'coordinates', model%x0)
     call h5u_write(g, 'weights', model%weight)
-    call h5u_write(g, 'mass', m_diag)
+    call h5u_write_rows(g, 'mass', m_diag(1:size(gid)), gid, model%nn)
     call h5u_write(g, 'node_ids', model%node_id)
     call h5u_group(g, 'elements', ge)
     allocate(r%grids(0))
@@ -207,20 +210,22 @@ contains
     call h5u_flush(r%file)
   end subroutine flush_history
 
-  !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar.
-  subroutine results_field(r, step, time, u, v)
+  !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar. u and v hold
+  !! the values of this rank's owned nodes `gid`.
+  subroutine results_field(r, step, time, u, v, gid)
     type(results_t), intent(inout) :: r
     integer, intent(in) :: step
     real(dp), intent(in) :: time
     real(dp), intent(in) :: u(:,:), v(:,:)
+    integer, intent(in) :: gid(:)
     integer(hid_t) :: g
     character(len=8) :: name
     write(name, '(i8.8)') step
     call h5u_group(r%file, 'fields/'//name, g)
     call h5u_attr_real(g, 'time', time)
     call h5u_attr_int(g, 'step', step)
-    call h5u_write(g, 'displacement', u)
-    call h5u_write(g, 'velocity', v)
+    call h5u_write_rows(g, 'displacement', u(:, 1:size(gid)), gid, r%nn)
+    call h5u_write_rows(g, 'velocity', v(:, 1:size(gid)), gid, r%nn)
     call h5u_close_group(g)
     r%n_fields = r%n_fields + 1
     r%field_step = [r%field_step, step]

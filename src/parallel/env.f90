@@ -4,14 +4,17 @@ module ictus_parallel_env
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_Init, MPI_Initialized, MPI_Finalize, &
       MPI_Finalized, MPI_Comm_dup, MPI_Comm_rank, MPI_Comm_size, MPI_Comm_free, MPI_INFO_NULL, &
       MPI_Allreduce, MPI_Bcast, MPI_Barrier, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, &
-      MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_CHARACTER, MPI_LOGICAL, MPI_LOR
+      MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_CHARACTER, MPI_LOGICAL, MPI_LOR, &
+      MPI_Request, MPI_Isend, MPI_Irecv, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Alltoall, &
+      MPI_Allgatherv, MPI_Allgather
   use ictus_core_kinds, only: dp, i8
   use ictus_core_errors, only: stop_hook, set_error_prefix
   use ictus_core_logger, only: log_set_root
   implicit none
   private
   public :: env_init, env_finalize, env_rank, env_size, env_is_root, env_comm_f, &
-      env_info_null_f, allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier
+      env_info_null_f, allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier, &
+      alltoall_int, exchange, allgatherv_real, allgather_int
 
   !> Sum over all ranks, in place.
   interface allreduce_sum
@@ -19,12 +22,16 @@ module ictus_parallel_env
   end interface allreduce_sum
   !> Maximum over all ranks, in place.
   interface allreduce_max
-    module procedure max_real, max_int
+    module procedure max_real, max_int, max_real_array
   end interface allreduce_max
   !> Minimum over all ranks, in place.
   interface allreduce_min
     module procedure min_real
   end interface allreduce_min
+  !> Point-to-point exchange with neighbour ranks (Isend/Irecv/Waitall).
+  interface exchange
+    module procedure exchange_int, exchange_real
+  end interface exchange
   !> Broadcast from rank 0.
   interface bcast
     module procedure bcast_int, bcast_int_array, bcast_real_array, bcast_string, bcast_logical
@@ -123,6 +130,12 @@ contains
     if (nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, x, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
   end subroutine max_real
 
+  subroutine max_real_array(x)
+    real(dp), intent(inout) :: x(:)
+    if (nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, x, size(x), MPI_DOUBLE_PRECISION, &
+        MPI_MAX, comm)
+  end subroutine max_real_array
+
   subroutine max_int(x)
     integer, intent(inout) :: x
     if (nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, x, 1, MPI_INTEGER, MPI_MAX, comm)
@@ -173,4 +186,82 @@ contains
     if (n > 0) call MPI_Bcast(s, n, MPI_CHARACTER, 0, comm)
   end subroutine bcast_string
 
+  !> Every rank sends sendcounts(q) items to rank q-1 and learns recvcounts(q) from it.
+  subroutine alltoall_int(sendcounts, recvcounts)
+    integer, intent(in) :: sendcounts(:)
+    integer, intent(out) :: recvcounts(:)
+    if (nranks == 1) then
+      recvcounts = sendcounts
+      return
+    end if
+    call MPI_Alltoall(sendcounts, 1, MPI_INTEGER, recvcounts, 1, MPI_INTEGER, comm)
+  end subroutine alltoall_int
+
+  !> Gathers every rank's `x` (its own length) into `all` on every rank, in rank order.
+  subroutine allgatherv_real(x, counts, all)
+    real(dp), intent(in) :: x(:)
+    integer, intent(in) :: counts(:)
+    real(dp), intent(out) :: all(:)
+    integer :: displs(size(counts)), q
+    if (nranks == 1) then
+      all(1:size(x)) = x
+      return
+    end if
+    displs(1) = 0
+    do q = 2, size(counts)
+      displs(q) = displs(q - 1) + counts(q - 1)
+    end do
+    call MPI_Allgatherv(x, size(x), MPI_DOUBLE_PRECISION, all, counts, displs, &
+        MPI_DOUBLE_PRECISION, comm)
+  end subroutine allgatherv_real
+
+  !> Gathers one integer per rank into `all(nranks)` on every rank.
+  subroutine allgather_int(x, all)
+    integer, intent(in) :: x
+    integer, intent(out) :: all(:)
+    if (nranks == 1) then
+      all(1) = x
+      return
+    end if
+    call MPI_Allgather(x, 1, MPI_INTEGER, all, 1, MPI_INTEGER, comm)
+  end subroutine allgather_int
+
+  !> Sends sendbuf(send_ptr(k):send_ptr(k+1)-1) to rank neigh(k) and receives
+  !! recvbuf(recv_ptr(k):recv_ptr(k+1)-1) from it, for k = 1..size(neigh).
+  subroutine exchange_int(neigh, send_ptr, sendbuf, recv_ptr, recvbuf)
+    integer, intent(in) :: neigh(:), send_ptr(:), recv_ptr(:)
+    integer, intent(in) :: sendbuf(:)
+    integer, intent(inout) :: recvbuf(:)
+    type(MPI_Request) :: req(2*size(neigh))
+    integer :: k, n
+    n = size(neigh)
+    do k = 1, n
+      call MPI_Irecv(recvbuf(recv_ptr(k):), recv_ptr(k + 1) - recv_ptr(k), MPI_INTEGER, &
+          neigh(k), 7, comm, req(k))
+    end do
+    do k = 1, n
+      call MPI_Isend(sendbuf(send_ptr(k):), send_ptr(k + 1) - send_ptr(k), MPI_INTEGER, &
+          neigh(k), 7, comm, req(n + k))
+    end do
+    if (n > 0) call MPI_Waitall(2*n, req, MPI_STATUSES_IGNORE)
+  end subroutine exchange_int
+
+  !> As exchange_int for real buffers.
+  subroutine exchange_real(neigh, send_ptr, sendbuf, recv_ptr, recvbuf)
+    integer, intent(in) :: neigh(:), send_ptr(:), recv_ptr(:)
+    real(dp), intent(in) :: sendbuf(:)
+    real(dp), intent(inout) :: recvbuf(:)
+    type(MPI_Request) :: req(2*size(neigh))
+    integer :: k, n
+    n = size(neigh)
+    do k = 1, n
+      call MPI_Irecv(recvbuf(recv_ptr(k):), recv_ptr(k + 1) - recv_ptr(k), &
+          MPI_DOUBLE_PRECISION, neigh(k), 8, comm, req(k))
+    end do
+    do k = 1, n
+      call MPI_Isend(sendbuf(send_ptr(k):), send_ptr(k + 1) - send_ptr(k), &
+          MPI_DOUBLE_PRECISION, neigh(k), 8, comm, req(n + k))
+    end do
+    if (n > 0) call MPI_Waitall(2*n, req, MPI_STATUSES_IGNORE)
+  end subroutine exchange_real
 end module ictus_parallel_env

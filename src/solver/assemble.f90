@@ -12,12 +12,14 @@ module ictus_solver_assemble
   use ictus_materials_elastic, only: elastic_dmat
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
+  use ictus_parallel_repro, only: repro_sum
   use ictus_solver_model, only: model_t
+  use ictus_solver_domain, only: domain_t
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       csr_init, bsr_add_element, csr_add_element
   implicit none
   private
-  public :: operators_t, assemble_operators, element_shape, shape_cache_t
+  public :: operators_t, assemble_operators, check_jacobians, element_shape, shape_cache_t
 
   !> The assembled constant operators.
   type :: operators_t
@@ -29,7 +31,7 @@ module ictus_solver_assemble
     type(csr_t) :: m
     !> Diagonal nodal masses (nn): the lumped masses, or for a consistent mass its row sums.
     real(dp), allocatable :: m_diag(:)
-    !> Total mass of the model.
+    !> Total mass of the model (all ranks).
     real(dp) :: total_mass = 0.0_dp
     !> Positive diagonal masses (nn): the lumped masses, or for consistent-mass elements the
     !! HRZ lumping of their consistent mass. Used for damping and the positivity check.
@@ -73,53 +75,57 @@ contains
     end if
   end subroutine element_shape
 
-  !> Assembles K, the consistent mass (if any element asks for it) and the nodal masses.
-  !! Elements with det J <= 0 are listed in `bad_jac` (nbad_jac of them) and skipped; nodes
-  !! whose assembled lumped mass is not positive are listed in `bad_mass` (a consistent mass
-  !! is checked through its HRZ diagonal, which is positive for any valid element).
-  subroutine assemble_operators(model, ops, bad_jac, nbad_jac, bad_mass, nbad_mass)
+  !> Assembles this rank's rows of K, of the consistent mass (if any element asks for it) and
+  !! of the nodal masses, from the elements of `dom` in global order. Elements with det J <= 0
+  !! are skipped (the caller checks them first with `check_jacobians`); owned nodes whose
+  !! lumped mass is not positive are listed by global index in `bad_mass` (a consistent mass is
+  !! checked through its HRZ diagonal, which is positive for any valid element).
+  subroutine assemble_operators(model, dom, ops, bad_mass, nbad_mass)
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     type(operators_t), intent(out) :: ops
-    integer, allocatable, intent(out) :: bad_jac(:), bad_mass(:)
-    integer, intent(out) :: nbad_jac, nbad_mass
+    integer, allocatable, intent(out) :: bad_mass(:)
+    integer, intent(out) :: nbad_mass
     type(graph_t) :: g
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp, shp2
-    real(dp), allocatable :: xl(:,:), ke(:,:), me(:,:), me2(:,:), ml(:), diag(:)
+    real(dp), allocatable :: xl(:,:), ke(:,:), me(:,:), me2(:,:), ml(:), diag(:), emass(:)
     real(dp) :: d(3, 3), mass_e, mass_e2
-    integer :: e, nen, ierr, i, mt, nn
-    nn = model%nn
-    call graph_from_elements(nn, model%nel, model%nen_max, model%nen, model%conn, g)
+    integer :: e, k, nen, ierr, i, mt, nl, nmine
+    integer, allocatable :: nodes(:)
+    nl = dom%nlocal
+    call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
+        model%nen(dom%elem), dom%conn, dom%halo%gid, g)
     call bsr_init(ops%k, g)
     ops%consistent = any(model%mass_kind == MASS_CONSISTENT)
     if (ops%consistent) call csr_init(ops%m, g)
-    allocate(ops%m_diag(nn), ops%m_pos(nn), ops%c_diag(nn), source=0.0_dp)
-    allocate(bad_jac(model%nel))
-    nbad_jac = 0
-    ops%total_mass = 0.0_dp
-    do e = 1, model%nel
+    allocate(ops%m_diag(nl), ops%m_pos(nl), ops%c_diag(nl), source=0.0_dp)
+    allocate(emass(dom%nelem), source=0.0_dp)
+    nmine = 0
+    do k = 1, dom%nelem
+      e = dom%elem(k)
       nen = model%nen(e)
       if (allocated(xl)) then
         if (size(xl, 2) /= nen) deallocate(xl, ke, me, me2, ml, diag)
       end if
       if (.not. allocated(xl)) allocate(xl(2, nen), ke(2*nen, 2*nen), me(nen, nen), &
           me2(nen, nen), ml(nen), diag(nen))
+      nodes = dom%conn(1:nen, k)
       xl = model%x0(:, model%conn(1:nen, e))
       mt = model%mat(e)
       call elastic_dmat(model%young(mt), model%poisson(mt), model%plane_strain, d)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call solid2d_stiffness(nen, shp, xl, d, model%thickness, ke, ierr)
-      if (ierr /= 0) then
-        nbad_jac = nbad_jac + 1
-        bad_jac(nbad_jac) = e
-        cycle
-      end if
-      call bsr_add_element(ops%k, nen, model%conn(1:nen, e), ke)
+      if (ierr /= 0) cycle
+      call bsr_add_element(ops%k, nen, nodes, ke)
       call solid2d_mass(nen, shp, xl, model%density(mt), model%thickness, me, mass_e, ierr)
-      ops%total_mass = ops%total_mass + mass_e
+      if (dom%part(e) == dom%rank) then
+        nmine = nmine + 1
+        emass(nmine) = mass_e
+      end if
       select case (model%mass_kind(e))
       case (MASS_CONSISTENT)
-        call csr_add_element(ops%m, nen, model%conn(1:nen, e), me)
+        call csr_add_element(ops%m, nen, nodes, me)
         do i = 1, nen
           diag(i) = me(i, i)
         end do
@@ -148,27 +154,50 @@ contains
           me2(:, i) = 0.0_dp
           me2(i, i) = ml(i)
         end do
-        call csr_add_element(ops%m, nen, model%conn(1:nen, e), me2)
+        call csr_add_element(ops%m, nen, nodes, me2)
       end if
-      ops%m_pos(model%conn(1:nen, e)) = ops%m_pos(model%conn(1:nen, e)) + ml
-      ops%c_diag(model%conn(1:nen, e)) = ops%c_diag(model%conn(1:nen, e)) &
-          + model%damping(e)*ml
+      ops%m_pos(nodes) = ops%m_pos(nodes) + ml
+      ops%c_diag(nodes) = ops%c_diag(nodes) + model%damping(e)*ml
       if (model%mass_kind(e) == MASS_CONSISTENT) then
         ! the row sums of the consistent mass, reported as its nodal masses
         do i = 1, nen
           ml(i) = sum(me(i, :))
         end do
       end if
-      ops%m_diag(model%conn(1:nen, e)) = ops%m_diag(model%conn(1:nen, e)) + ml
+      ops%m_diag(nodes) = ops%m_diag(nodes) + ml
     end do
-    ! nodes that carry elements must have positive mass
-    allocate(bad_mass(nn))
+    ops%total_mass = repro_sum(nmine, emass, model%nel)
+    ! owned nodes that carry elements must have a positive mass
+    allocate(bad_mass(dom%nowned))
     nbad_mass = 0
-    do i = 1, nn
+    do i = 1, dom%nowned
       if (g%row_ptr(i + 1) - g%row_ptr(i) > 1 .and. .not. ops%m_pos(i) > 0.0_dp) then
         nbad_mass = nbad_mass + 1
-        bad_mass(nbad_mass) = i
+        bad_mass(nbad_mass) = dom%halo%gid(i)
       end if
     end do
   end subroutine assemble_operators
+
+  !> Elements (global indices, increasing) with a non-positive Jacobian determinant at a
+  !! quadrature point. Runs over the whole model on every rank, so all ranks agree.
+  subroutine check_jacobians(model, bad, nbad)
+    type(model_t), intent(in) :: model
+    integer, allocatable, intent(out) :: bad(:)
+    integer, intent(out) :: nbad
+    type(shape_cache_t) :: cache
+    type(elem_shape_t) :: shp
+    real(dp) :: detj_min
+    integer :: e, igp, nen
+    allocate(bad(model%nel))
+    nbad = 0
+    do e = 1, model%nel
+      nen = model%nen(e)
+      call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
+      call solid2d_min_detj(nen, shp, model%x0(:, model%conn(1:nen, e)), detj_min, igp)
+      if (.not. detj_min > 0.0_dp) then
+        nbad = nbad + 1
+        bad(nbad) = e
+      end if
+    end do
+  end subroutine check_jacobians
 end module ictus_solver_assemble

@@ -7,30 +7,39 @@
 !!     v_{n+1/2} = v_pre + dt a_cor
 !!     u_{n+1} = u_n + dt v_{n+1/2}
 !!
+!! The step is split in two: `step_predict` (up to v_pre, plus the energies at t_n when asked)
+!! and `step_finish` (u_{n+1}); the contact correction of v goes between them.
 !! Damping: the force -alpha M v with v at t_n = (v_{n-1/2} + v_{n+1/2})/2 gives
 !! v_pre = ((1 - alpha dt/2) v_{n-1/2} + dt a) / (1 + alpha dt/2) node by node, where alpha is
 !! the mass-weighted mean of the element coefficients around the node.
-!! The step allocates nothing: all arrays live in `state_t`, allocated by `state_init`.
+!! Vectors hold this rank's owned nodes followed by its ghosts; updates run over owned nodes
+!! and `step_finish` refreshes the ghost displacements. The step allocates nothing.
 module ictus_solver_explicit
   use ictus_core_kinds, only: dp
+  use ictus_parallel_repro, only: repro_dot
+  use ictus_parallel_halo, only: halo_exchange
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
+  use ictus_solver_domain, only: domain_t
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies
 
   type :: state_t
+    !> Owned nodes and local nodes (owned + ghosts).
     integer :: nn = 0
+    integer :: nlocal = 0
+    integer :: nglobal = 0
     !> Step counter n and time t_n of the displacement `u`.
     integer :: step = 0
     real(dp) :: t = 0.0_dp
     real(dp) :: dt = 0.0_dp
-    !> u_n (2, nn); v_{n-1/2} before a step and v_{n+1/2} after it; last acceleration a.
+    !> u_n (2, nlocal); v_{n-1/2} before a step and v_{n+1/2} after it; last acceleration a.
     real(dp), allocatable :: u(:,:), v(:,:), a(:,:)
     !> Work: force vector, previous half-step velocity, mean velocity, M v.
     real(dp), allocatable :: f(:,:), v_old(:,:), v_mid(:,:), mv(:,:)
-    !> Damping coefficient per node (nn), the positive nodal masses it acts on (nn), and
-    !! whether any coefficient is non-zero.
+    !> Damping coefficient per node, the positive nodal masses it acts on, and whether any
+    !! coefficient is non-zero.
     real(dp), allocatable :: alpha(:)
     real(dp), allocatable :: m_pos(:)
     logical :: damped = .false.
@@ -47,86 +56,98 @@ module ictus_solver_explicit
 contains
 
   !> Sets u_0 (prescribed displacements), v_0 and the start-up half-step velocity
-  !! v_{-1/2} = v_0 - dt/2 a_0 with a_0 = M^-1(-K u_0).
-  !! `alpha` (nn) are the nodal damping coefficients, `m_pos` (nn) the positive diagonal
+  !! v_{-1/2} = v_0 - dt/2 a_0 with a_0 = M^-1(-K u_0). Arrays are local (2, nlocal) /
+  !! (nlocal). `alpha` are the nodal damping coefficients, `m_pos` the positive diagonal
   !! masses that weigh the damping work.
-  subroutine state_init(s, k, mop, u0, v0, alpha, m_pos, dt)
+  subroutine state_init(s, k, mop, dom, u0, v0, alpha, m_pos, dt)
     type(state_t), intent(out) :: s
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
     real(dp), intent(in) :: u0(:,:), v0(:,:), alpha(:), m_pos(:), dt
-    integer :: nn
-    nn = size(u0, 2)
+    integer :: nn, nl
+    nn = dom%nowned
+    nl = dom%nlocal
     s%nn = nn
+    s%nlocal = nl
+    s%nglobal = dom%nn_global
     s%dt = dt
-    allocate(s%u(2, nn), s%v(2, nn), s%f(2, nn), s%v_old(2, nn), s%v_mid(2, nn), &
-        s%mv(2, nn))
-    allocate(s%a(2, nn), source=0.0_dp)
+    allocate(s%u(2, nl), s%v(2, nl), s%f(2, nl), s%v_old(2, nl), s%v_mid(2, nl), &
+        s%mv(2, nl))
+    allocate(s%a(2, nl), source=0.0_dp)
+    s%v_mid = 0.0_dp
     s%u = u0
-    s%alpha = alpha
-    s%m_pos = m_pos
-    s%damped = any(alpha /= 0.0_dp)
+    s%alpha = alpha(1:nn)
+    s%m_pos = m_pos(1:nn)
+    s%damped = any(alpha(1:nn) /= 0.0_dp)
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
-    s%f = -s%f
-    call mass_solve(mop, s%f, s%a, s%ierr)
-    s%v = (v0 - 0.5_dp*dt*s%a)*mop%free
+    s%f(:, 1:nn) = -s%f(:, 1:nn)
+    call mass_solve(mop, dom, s%f, s%a, s%ierr)
+    s%v = 0.0_dp
+    s%v(:, 1:nn) = (v0(:, 1:nn) - 0.5_dp*dt*s%a(:, 1:nn))*mop%free(:, 1:nn)
   end subroutine state_init
 
   !> First half of a step: internal force at u_n, predictor acceleration and velocity
   !! v_{n+1/2} (before any contact correction). With `record`, also the mean velocity
   !! v_n = (v_{n-1/2} + v_{n+1/2})/2 in s%v_mid and the energies at t_n.
-  subroutine step_predict(s, k, mop, record)
+  subroutine step_predict(s, k, mop, dom, record)
     type(state_t), intent(inout) :: s
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
     logical, intent(in) :: record
     integer :: i, nn
     real(dp) :: dt, h, pw
     nn = s%nn
     dt = s%dt
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
-    s%f = -s%f
-    call mass_solve(mop, s%f, s%a, s%ierr)
-    s%v_old = s%v
+    s%f(:, 1:nn) = -s%f(:, 1:nn)
+    call mass_solve(mop, dom, s%f, s%a, s%ierr)
+    s%v_old(:, 1:nn) = s%v(:, 1:nn)
     if (s%damped) then
       do i = 1, nn
         h = 0.5_dp*s%alpha(i)*dt
         s%v(:, i) = ((1.0_dp - h)*s%v(:, i) + dt*s%a(:, i))/(1.0_dp + h)
       end do
     else
-      s%v = s%v + dt*s%a
+      s%v(:, 1:nn) = s%v(:, 1:nn) + dt*s%a(:, 1:nn)
     end if
-    if (s%damped .or. record) s%v_mid = 0.5_dp*(s%v_old + s%v)
+    if (s%damped .or. record) s%v_mid(:, 1:nn) = 0.5_dp*(s%v_old(:, 1:nn) + s%v(:, 1:nn))
     if (s%damped) then
       ! power of the damping force -alpha M v at t_n (lumped, node by node), integrated by
       ! the trapezoidal rule: w_acc = work from 0 to t_n
-      pw = 0.0_dp
       do i = 1, nn
-        pw = pw - s%alpha(i)*s%m_pos(i)*(s%v_mid(1, i)**2 + s%v_mid(2, i)**2)
+        s%mv(:, i) = -s%alpha(i)*s%m_pos(i)*s%v_mid(:, i)
       end do
+      pw = repro_dot(nn, s%mv, s%v_mid, s%nglobal)
       if (s%step > 0) s%w_acc = s%w_acc + 0.5_dp*dt*(s%pw_prev + pw)
       s%pw_prev = pw
     end if
-    if (record) call state_energies(s, mop)
+    if (record) call state_energies(s, mop, dom)
   end subroutine step_predict
 
-  !> Second half of a step: u_{n+1} = u_n + dt v_{n+1/2}, t_{n+1} = t_n + dt. Contact
-  !! corrections of v_{n+1/2} (evaluated on u_pre = u_n + dt v_pre) come before this.
-  subroutine step_finish(s)
+  !> Second half of a step: u_{n+1} = u_n + dt v_{n+1/2}, t_{n+1} = t_n + dt, and the ghost
+  !! displacements refreshed. Contact corrections of v_{n+1/2} (evaluated on
+  !! u_pre = u_n + dt v_pre) come before this.
+  subroutine step_finish(s, dom)
     type(state_t), intent(inout) :: s
-    s%u = s%u + s%dt*s%v
+    type(domain_t), intent(inout) :: dom
+    s%u(:, 1:s%nn) = s%u(:, 1:s%nn) + s%dt*s%v(:, 1:s%nn)
+    call halo_exchange(dom%halo, s%u)
     s%step = s%step + 1
     s%t = s%t + s%dt
   end subroutine step_finish
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,
   !! recorded for time t_n. Needs s%f = -K u_n and s%v_mid set by the current step.
-  subroutine state_energies(s, mop)
+  subroutine state_energies(s, mop, dom)
     type(state_t), intent(inout) :: s
     type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(inout) :: dom
+    if (mop%consistent) call halo_exchange(dom%halo, s%v_mid)
     call mass_apply(mop, s%v_mid, s%mv)
-    s%e_kin = 0.5_dp*sum(s%v_mid*s%mv)
-    s%e_strain = -0.5_dp*sum(s%u*s%f)
+    s%e_kin = 0.5_dp*repro_dot(s%nn, s%v_mid, s%mv, s%nglobal)
+    s%e_strain = -0.5_dp*repro_dot(s%nn, s%u, s%f, s%nglobal)
     s%w_ext = s%w_acc
     s%e_time = s%t
   end subroutine state_energies

@@ -2,25 +2,33 @@
 !!
 !! Lumped mass: a division by the nodal mass. Consistent mass: a Jacobi-preconditioned
 !! conjugate gradient, warm-started from the caller's previous solution (accelerations change
-!! little from one step to the next), which works unchanged on distributed vectors. All work
-!! arrays are allocated once in `mass_op_init`; the solve allocates nothing.
+!! little from one step to the next). It runs on this rank's rows; the search direction's
+!! ghost values come by halo exchange and the dot products are reproducible global sums, so
+!! the iterates are the same bits on any number of ranks. All work arrays are allocated once
+!! in `mass_op_init`; a solve allocates nothing.
 module ictus_solver_mass_operator
   use ictus_core_kinds, only: dp
+  use ictus_parallel_repro, only: repro_dot
+  use ictus_parallel_halo, only: halo_exchange
   use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal
+  use ictus_solver_domain, only: domain_t
   implicit none
   private
   public :: mass_op_t, mass_op_init, mass_solve, mass_apply
 
   type :: mass_op_t
+    !> Owned nodes (rows), local nodes (owned + ghost), global nodes.
     integer :: nn = 0
+    integer :: nlocal = 0
+    integer :: nglobal = 0
     logical :: consistent = .false.
     !> Consistent mass (scalar, acting on both components).
     type(csr_t) :: m
-    !> Lumped masses (nn).
+    !> Lumped masses (owned nodes).
     real(dp), allocatable :: m_diag(:)
     !> 1/m on free dofs, 0 on fixed dofs and massless nodes (2, nn); also the preconditioner.
     real(dp), allocatable :: inv_diag(:,:)
-    !> 1 on free dofs, 0 on fixed ones (2, nn).
+    !> 1 on free dofs, 0 on fixed ones (2, nlocal).
     real(dp), allocatable :: free(:,:)
     !> Relative residual tolerance and iteration limit of the conjugate gradient.
     real(dp) :: rtol = 1.0e-12_dp
@@ -29,53 +37,61 @@ module ictus_solver_mass_operator
     integer :: last_iter = 0
     integer :: total_iter = 0
     integer :: n_solves = 0
-    !> Work vectors (2, nn).
+    !> Work vectors (2, nlocal).
     real(dp), allocatable :: r(:,:), z(:,:), p(:,:), q(:,:)
   end type mass_op_t
 
 contains
 
-  !> Sets up the operator. `m` is used only when `consistent`; `fixed(2, nn)` marks Dirichlet
-  !! dofs, whose accelerations are zero.
-  subroutine mass_op_init(op, nn, consistent, m, m_diag, fixed)
+  !> Sets up the operator for the rows of `dom`. `m` is used only when `consistent`;
+  !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero.
+  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed)
     type(mass_op_t), intent(out) :: op
-    integer, intent(in) :: nn
+    type(domain_t), intent(in) :: dom
     logical, intent(in) :: consistent
     type(csr_t), intent(in) :: m
-    real(dp), intent(in) :: m_diag(nn)
-    logical, intent(in) :: fixed(2, nn)
+    real(dp), intent(in) :: m_diag(:)
+    logical, intent(in) :: fixed(:,:)
     real(dp), allocatable :: d(:)
-    integer :: i, c
+    integer :: i, c, nn
+    nn = dom%nowned
     op%nn = nn
+    op%nlocal = dom%nlocal
+    op%nglobal = dom%nn_global
     op%consistent = consistent
-    op%m_diag = m_diag
-    allocate(op%inv_diag(2, nn), op%free(2, nn))
+    op%m_diag = m_diag(1:nn)
+    allocate(op%inv_diag(2, nn), op%free(2, dom%nlocal))
     allocate(d(nn))
     if (consistent) then
       op%m = m
       call csr_diagonal(m, d)
-      allocate(op%r(2, nn), op%z(2, nn), op%p(2, nn), op%q(2, nn))
+      allocate(op%r(2, nn), op%z(2, nn), op%q(2, nn), op%p(2, dom%nlocal))
+      op%p = 0.0_dp
     else
-      d = m_diag
+      d = m_diag(1:nn)
     end if
+    do i = 1, dom%nlocal
+      do c = 1, 2
+        op%free(c, i) = merge(0.0_dp, 1.0_dp, fixed(c, i))
+      end do
+    end do
     do i = 1, nn
       do c = 1, 2
         if (fixed(c, i) .or. .not. d(i) > 0.0_dp) then
           op%free(c, i) = 0.0_dp
           op%inv_diag(c, i) = 0.0_dp
         else
-          op%free(c, i) = 1.0_dp
           op%inv_diag(c, i) = 1.0_dp/d(i)
         end if
       end do
     end do
   end subroutine mass_op_init
 
-  !> mv = M v (all dofs, no masking).
+  !> mv = M v on the owned rows (v must hold current ghost values for a consistent mass).
   subroutine mass_apply(op, v, mv)
     type(mass_op_t), intent(in) :: op
     real(dp), intent(in) :: v(:,:)
-    real(dp), intent(out) :: mv(:,:)
+    real(dp), intent(inout) :: mv(:,:)
     integer :: i
     if (op%consistent) then
       call csr_matvec(op%nn, op%m%g%row_ptr, op%m%g%col, op%m%val, v, mv)
@@ -86,51 +102,58 @@ contains
     end if
   end subroutine mass_apply
 
-  !> Solves M a = f on the free dofs (a = 0 on fixed ones). For a consistent mass, `a` holds
-  !! the start value on entry (e.g. the previous step's acceleration). `ierr` = 1 when the
-  !! conjugate gradient did not converge.
-  subroutine mass_solve(op, f, a, ierr)
+  !> Solves M a = f on the free owned dofs (a = 0 on fixed ones); f and a are (2, >= nn).
+  !! For a consistent mass, `a` holds the start value on entry (e.g. the previous step's
+  !! acceleration). `ierr` = 1 when the conjugate gradient did not converge.
+  subroutine mass_solve(op, dom, f, a, ierr)
     type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(inout) :: dom
     real(dp), intent(in) :: f(:,:)
     real(dp), intent(inout) :: a(:,:)
     integer, intent(out) :: ierr
     real(dp) :: rz, rz_new, alpha, beta, fnorm2, rnorm2, pq
-    integer :: it
+    integer :: it, nn
     ierr = 0
+    nn = op%nn
     if (.not. op%consistent) then
-      a = f*op%inv_diag
+      a(:, 1:nn) = f(:, 1:nn)*op%inv_diag
       return
     end if
-    a = a*op%free
-    call csr_matvec(op%nn, op%m%g%row_ptr, op%m%g%col, op%m%val, a, op%q)
-    op%r = (f - op%q)*op%free
-    fnorm2 = sum((f*op%free)**2)
     op%n_solves = op%n_solves + 1
     op%last_iter = 0
+    ! residual of the start value
+    op%p(:, 1:nn) = a(:, 1:nn)*op%free(:, 1:nn)
+    call halo_exchange(dom%halo, op%p)
+    call csr_matvec(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q)
+    a(:, 1:nn) = op%p(:, 1:nn)
+    op%r = (f(:, 1:nn) - op%q)*op%free(:, 1:nn)
+    op%z = f(:, 1:nn)*op%free(:, 1:nn)
+    fnorm2 = repro_dot(nn, op%z, op%z, op%nglobal)
     if (fnorm2 == 0.0_dp) then
-      a = 0.0_dp
+      a(:, 1:nn) = 0.0_dp
       return
     end if
-    rnorm2 = sum(op%r**2)
+    rnorm2 = repro_dot(nn, op%r, op%r, op%nglobal)
     if (rnorm2 <= op%rtol**2*fnorm2) return
     op%z = op%r*op%inv_diag
-    op%p = op%z
-    rz = sum(op%r*op%z)
+    op%p(:, 1:nn) = op%z
+    rz = repro_dot(nn, op%r, op%z, op%nglobal)
     do it = 1, op%max_iter
-      call csr_matvec(op%nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q)
-      op%q = op%q*op%free
-      pq = sum(op%p*op%q)
+      call halo_exchange(dom%halo, op%p)
+      call csr_matvec(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q)
+      op%q = op%q*op%free(:, 1:nn)
+      pq = repro_dot(nn, op%p, op%q, op%nglobal)
       alpha = rz/pq
-      a = a + alpha*op%p
+      a(:, 1:nn) = a(:, 1:nn) + alpha*op%p(:, 1:nn)
       op%r = op%r - alpha*op%q
-      rnorm2 = sum(op%r**2)
+      rnorm2 = repro_dot(nn, op%r, op%r, op%nglobal)
       op%last_iter = it
       if (rnorm2 <= op%rtol**2*fnorm2) exit
       op%z = op%r*op%inv_diag
-      rz_new = sum(op%r*op%z)
+      rz_new = repro_dot(nn, op%r, op%z, op%nglobal)
       beta = rz_new/rz
       rz = rz_new
-      op%p = op%z + beta*op%p
+      op%p(:, 1:nn) = op%z + beta*op%p(:, 1:nn)
     end do
     op%total_iter = op%total_iter + op%last_iter
     if (rnorm2 > op%rtol**2*fnorm2) ierr = 1

@@ -1,0 +1,53 @@
+!> Element partitioning with METIS (dual graph: elements are neighbours when they share an
+!! edge, i.e. two nodes in 2D).
+module ictus_parallel_partition
+  use, intrinsic :: iso_c_binding, only: c_int, c_null_ptr, c_ptr, c_loc
+  use ictus_parallel_metis_kinds, only: idx_t
+  implicit none
+  private
+  public :: partition_elements
+
+  interface
+    function metis_partmeshdual(ne, nn, eptr, eind, vwgt, vsize, ncommon, nparts, tpwgts, &
+        options, objval, epart, npart) bind(c, name='METIS_PartMeshDual') result(status)
+      import :: c_int, c_ptr, idx_t
+      integer(idx_t), intent(in) :: ne, nn, ncommon, nparts
+      integer(idx_t), intent(in) :: eptr(*), eind(*)
+      type(c_ptr), value :: vwgt, vsize, tpwgts, options
+      integer(idx_t), intent(out) :: objval
+      integer(idx_t), intent(out) :: epart(*), npart(*)
+      integer(c_int) :: status
+    end function metis_partmeshdual
+  end interface
+
+contains
+
+  !> Splits nel elements (nen(e) nodes each, conn(nen_max, nel) in 1..nn) into nparts parts.
+  !! part(e) in 0..nparts-1. `ierr` /= 0 when METIS fails. METIS with default options is
+  !! deterministic, so every rank computing it gets the same partition.
+  subroutine partition_elements(nn, nel, nen_max, nen, conn, nparts, part, ierr)
+    integer, intent(in) :: nn, nel, nen_max, nparts
+    integer, intent(in) :: nen(nel), conn(nen_max, nel)
+    integer, intent(out) :: part(nel)
+    integer, intent(out) :: ierr
+    integer(idx_t), allocatable :: eptr(:), eind(:), epart(:), npart(:)
+    integer(idx_t) :: objval
+    integer :: e, k
+    ierr = 0
+    if (nparts <= 1 .or. nel == 0) then
+      part = 0
+      return
+    end if
+    allocate(eptr(nel + 1), eind(sum(nen)), epart(nel), npart(nn))
+    eptr(1) = 0
+    k = 0
+    do e = 1, nel
+      eind(k + 1:k + nen(e)) = int(conn(1:nen(e), e) - 1, idx_t)
+      k = k + nen(e)
+      eptr(e + 1) = int(k, idx_t)
+    end do
+    ierr = 1 - metis_partmeshdual(int(nel, idx_t), int(nn, idx_t), eptr, eind, c_null_ptr, &
+        c_null_ptr, 2_idx_t, int(nparts, idx_t), c_null_ptr, c_null_ptr, objval, epart, npart)
+    part = int(epart)
+  end subroutine partition_elements
+end module ictus_parallel_partition

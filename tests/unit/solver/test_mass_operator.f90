@@ -1,0 +1,102 @@
+!> The consistent-mass solve (Jacobi PCG with fixed dofs) against a dense LAPACK solve, and
+!! the lumped solve.
+program test_mass_operator
+  use ictus_core_kinds, only: dp
+  use ictus_solver_sparse, only: graph_t, csr_t, graph_from_elements, csr_init, &
+      csr_add_element
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_apply
+  use ictus_solver_domain, only: domain_t, domain_init_serial
+  use ictus_test_check, only: checker_t
+  implicit none
+  type(checker_t) :: t
+  call t%start("solver/mass_operator")
+  call test_consistent(t)
+  call test_lumped(t)
+  call t%finish()
+contains
+
+  !> A 1D chain of linear "elements" with the consistent mass (h/6)[2 1; 1 2], 20 nodes.
+  subroutine build_chain(nn, m, md)
+    integer, intent(in) :: nn
+    type(csr_t), intent(out) :: m
+    real(dp), intent(out) :: md(nn, nn)
+    integer :: conn(2, nn - 1), nen(nn - 1), e
+    real(dp) :: me(2, 2)
+    type(graph_t) :: g
+    do e = 1, nn - 1
+      conn(:, e) = [e, e + 1]
+    end do
+    nen = 2
+    call graph_from_elements(nn, nn, nn - 1, 2, nen, conn, [(e, e = 1, nn)], g)
+    call csr_init(m, g)
+    md = 0.0_dp
+    do e = 1, nn - 1
+      ! element sizes vary, to make the matrix less regular
+      me = (1.0_dp + 0.1_dp*e)/6.0_dp*reshape([2.0_dp, 1.0_dp, 1.0_dp, 2.0_dp], [2, 2])
+      call csr_add_element(m, 2, conn(:, e), me)
+      md(e:e + 1, e:e + 1) = md(e:e + 1, e:e + 1) + me
+    end do
+  end subroutine build_chain
+
+  subroutine test_consistent(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: nn = 20
+    type(csr_t) :: m
+    type(mass_op_t) :: op
+    type(domain_t) :: dom
+    real(dp) :: md(nn, nn), f(2, nn), a(2, nn), rhs(nn - 1, 2), mdf(nn - 1, nn - 1), mv(2, nn)
+    logical :: fixed(2, nn)
+    integer :: ipiv(nn - 1), info, i, ierr
+    call build_chain(nn, m, md)
+    fixed = .false.
+    fixed(1, 1) = .true.
+    fixed(2, nn) = .true.
+    call domain_init_serial(dom, nn)
+    call mass_op_init(op, dom, .true., m, [(1.0_dp, i = 1, nn)], fixed)
+    do i = 1, nn
+      f(:, i) = [sin(real(i, dp)), cos(real(3*i, dp))]
+    end do
+    a = 0.0_dp
+    call mass_solve(op, dom, f, a, ierr)
+    call t%equal_int(ierr, 0, "PCG converged")
+    ! dense reference: component 1 without node 1, component 2 without node nn
+    mdf = md(2:nn, 2:nn)
+    rhs(:, 1) = f(1, 2:nn)
+    call dgesv(nn - 1, 1, mdf, nn - 1, ipiv, rhs(:, 1), nn - 1, info)
+    call t%close_abs(maxval(abs(a(1, 2:nn) - rhs(:, 1))), 0.0_dp, 1e-10_dp, &
+        "component 1 = dense solve on the free dofs")
+    call t%close_abs(abs(a(1, 1)), 0.0_dp, 0.0_dp, "fixed dof has zero acceleration")
+    mdf = md(1:nn - 1, 1:nn - 1)
+    rhs(:, 2) = f(2, 1:nn - 1)
+    call dgesv(nn - 1, 1, mdf, nn - 1, ipiv, rhs(:, 2), nn - 1, info)
+    call t%close_abs(maxval(abs(a(2, 1:nn - 1) - rhs(:, 2))), 0.0_dp, 1e-10_dp, &
+        "component 2 = dense solve on the free dofs")
+    ! warm start from the solution: no iteration needed
+    call mass_solve(op, dom, f, a, ierr)
+    call t%equal_int(op%last_iter, 0, "warm start from the solution needs no iteration")
+    call mass_apply(op, a, mv)
+    call t%close_abs(maxval(abs(mv(1, 2:nn) - f(1, 2:nn))), 0.0_dp, 1e-10_dp, "M a = f")
+  end subroutine test_consistent
+
+  subroutine test_lumped(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: nn = 5
+    type(csr_t) :: m
+    type(mass_op_t) :: op
+    type(domain_t) :: dom
+    real(dp) :: f(2, nn), a(2, nn), md(nn)
+    logical :: fixed(2, nn)
+    integer :: ierr
+    md = [1.0_dp, 2.0_dp, 4.0_dp, 0.0_dp, 8.0_dp]
+    fixed = .false.
+    fixed(2, 3) = .true.
+    call domain_init_serial(dom, nn)
+    call mass_op_init(op, dom, .false., m, md, fixed)
+    f = 1.0_dp
+    a = 0.0_dp
+    call mass_solve(op, dom, f, a, ierr)
+    call t%close(a(1, 2), 0.5_dp, 0.0_dp, "lumped: f/m")
+    call t%close(a(2, 3), 0.0_dp, 0.0_dp, "lumped: fixed dof")
+    call t%close(a(1, 4), 0.0_dp, 0.0_dp, "lumped: massless node (no element) stays")
+  end subroutine test_lumped
+end program test_mass_operator
