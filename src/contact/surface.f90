@@ -204,13 +204,9 @@ contains
     integer :: ng(this%nseg), s, q, m, a
     real(dp) :: xi(32), w(32), xq(2), x1(2), x2(2), r(this%nen_max), wj
     do s = 1, this%nseg
-      if (present(ngauss)) then
-        ng(s) = ngauss(s)
-      else if (this%kind(s) == SEG_LAGRANGE) then
-        ng(s) = this%nen(s)
-      else
-        ng(s) = this%nen(s)
-      end if
+      ! default: 2 points on a linear edge, 3 on a quadratic one, p + 1 on a Bezier span
+      ng(s) = this%nen(s)
+      if (present(ngauss)) ng(s) = ngauss(s)
       ng(s) = min(max(ng(s), 1), 32)
     end do
     this%ngp = sum(ng)
@@ -253,7 +249,8 @@ contains
     if (this%kind(s) == SEG_LAGRANGE) then
       call lagrange_1d(n, t, r, dr, ddr)
     else
-      call rational_bezier(n - 1, this%ext(1:n, 1:n, s), this%wgt(1:n, s), t, r, dr, ddr)
+      call rational_bezier(this%nen_max, n - 1, this%ext(:, :, s), this%wgt(:, s), t, r, dr, &
+          ddr)
     end if
   end subroutine segment_shape
 
@@ -322,24 +319,43 @@ contains
     end if
   end subroutine lagrange_1d
 
-  !> Rational B-spline functions of one span through its extraction operator c (p+1, p+1) and
-  !! weights w (p+1), with first and second derivatives in t in [0, 1].
-  pure subroutine rational_bezier(p, c, w, t, r, dr, ddr)
-    integer, intent(in) :: p
-    real(dp), intent(in) :: c(p+1, p+1), w(p+1), t
+  !> Rational B-spline functions of one span through its extraction operator c and weights
+  !! w, with first and second derivatives in t in [0, 1].
+  !! @param ld leading dimension of c and w; @param p degree (p + 1 <= ld);
+  !! @param c extraction operator (ld, ld), used (p+1, p+1); @param w weights (ld);
+  !! @param t parameter; @param r, dr, ddr values and derivatives (p+1 used)
+  pure subroutine rational_bezier(ld, p, c, w, t, r, dr, ddr)
+    integer, intent(in) :: ld, p
+    real(dp), intent(in) :: c(ld, ld), w(ld), t
     real(dp), intent(out) :: r(:), dr(:), ddr(:)
-    real(dp) :: b(p+1), db(p+1), ddb(p+1), n0(p+1), n1(p+1), n2(p+1)
+    real(dp) :: b(p+1), db(p+1), ddb(p+1), n0, n1, n2
     real(dp) :: ww, w1, w2
+    integer :: a, j
     call bernstein2(p, t, b, db, ddb)
-    n0 = matmul(c, b)*w
-    n1 = matmul(c, db)*w
-    n2 = matmul(c, ddb)*w
-    ww = sum(n0)
-    w1 = sum(n1)
-    w2 = sum(n2)
-    r(1:p+1) = n0/ww
-    dr(1:p+1) = (n1 - r(1:p+1)*w1)/ww
-    ddr(1:p+1) = (n2 - 2.0_dp*dr(1:p+1)*w1 - r(1:p+1)*w2)/ww
+    ww = 0.0_dp
+    w1 = 0.0_dp
+    w2 = 0.0_dp
+    do a = 1, p + 1
+      n0 = 0.0_dp
+      n1 = 0.0_dp
+      n2 = 0.0_dp
+      do j = 1, p + 1
+        n0 = n0 + c(a, j)*b(j)
+        n1 = n1 + c(a, j)*db(j)
+        n2 = n2 + c(a, j)*ddb(j)
+      end do
+      r(a) = w(a)*n0
+      dr(a) = w(a)*n1
+      ddr(a) = w(a)*n2
+      ww = ww + r(a)
+      w1 = w1 + dr(a)
+      w2 = w2 + ddr(a)
+    end do
+    do a = 1, p + 1
+      r(a) = r(a)/ww
+      dr(a) = (dr(a) - r(a)*w1)/ww
+      ddr(a) = (ddr(a) - 2.0_dp*dr(a)*w1 - r(a)*w2)/ww
+    end do
   end subroutine rational_bezier
 
   !> Bernstein polynomials of degree p on [0, 1] with first and second derivatives:
@@ -441,14 +457,15 @@ contains
   !! patch. Orientation per span from the sign of t x (inward direction) at the span middle,
   !! where t = dx/d(side parameter); this sign is that of det J, which may be negative.
   !! @param patch the patch; @param offset global index of its first control point minus 1;
-  !! @param side SIDE_*; @param nseg number of segments; @param conn (p+1, nseg);
-  !! @param wgt (p+1, nseg); @param ext (p+1, p+1, nseg); @param elem patch element (nseg);
+  !! @param side SIDE_*; @param nseg number of segments; @param nens nodes per segment
+  !! (nseg); @param conn (p+1, nseg) global nodes; @param wgt (p+1, nseg);
+  !! @param ext (p+1, p+1, nseg); @param elem patch element (nseg);
   !! @param ierr 0, 1 if the side is unknown, 2 if det J vanishes or changes sign on the side
-  subroutine patch_side_segments(patch, offset, side, nseg, conn, wgt, ext, elem, ierr)
+  subroutine patch_side_segments(patch, offset, side, nseg, nens, conn, wgt, ext, elem, ierr)
     type(patch_t), intent(in) :: patch
     integer, intent(in) :: offset, side
     integer, intent(out) :: nseg
-    integer, allocatable, intent(out) :: conn(:,:), elem(:)
+    integer, allocatable, intent(out) :: nens(:), conn(:,:), elem(:)
     real(dp), allocatable, intent(out) :: wgt(:,:), ext(:,:,:)
     integer, intent(out) :: ierr
     integer, allocatable :: elems(:), faces(:)
@@ -459,12 +476,13 @@ contains
     call patch_side_elements(patch, side, elems, faces, nseg)
     if (nseg == 0) then
       ierr = 1
-      allocate(conn(0, 0), wgt(0, 0), ext(0, 0, 0), elem(0))
+      allocate(nens(0), conn(0, 0), wgt(0, 0), ext(0, 0, 0), elem(0))
       return
     end if
     p = maxval(patch%p)
     p1 = patch%p(1)
-    allocate(conn(p+1, nseg), wgt(p+1, nseg), ext(p+1, p+1, nseg), elem(nseg), flip(nseg))
+    allocate(nens(nseg), conn(p+1, nseg), wgt(p+1, nseg), ext(p+1, p+1, nseg), elem(nseg), &
+        flip(nseg))
     conn = 0
     wgt = 1.0_dp
     ext = 0.0_dp
@@ -476,6 +494,7 @@ contains
           0.5_dp*(patch%span_lo2(ij(2)) + patch%span_hi2(ij(2)))]
       select case (faces(k))
       case (1, 3)
+        nens(k) = p1 + 1
         if (faces(k) == 1) u(2) = patch%knots2(1)
         if (faces(k) == 3) u(2) = patch%knots2(size(patch%knots2))
         ext(1:p1+1, 1:p1+1, k) = patch%c1(:, :, ij(1))
@@ -485,6 +504,7 @@ contains
           conn(a+1, k) = patch%ien(loc, elems(k))
         end do
       case default
+        nens(k) = patch%p(2) + 1
         if (faces(k) == 4) u(1) = patch%knots1(1)
         if (faces(k) == 2) u(1) = patch%knots1(size(patch%knots1))
         ext(1:patch%p(2)+1, 1:patch%p(2)+1, k) = patch%c2(:, :, ij(2))
@@ -519,22 +539,11 @@ contains
     end do
     if (nsign(1) + nsign(2) < nseg .or. (nsign(1) > 0 .and. nsign(2) > 0)) ierr = 2
     do k = 1, nseg
-      call side_length(k, a)
-      do loc = 1, a
+      do loc = 1, nens(k)
         wgt(loc, k) = patch%cp(3, conn(loc, k))
         conn(loc, k) = offset + conn(loc, k)
       end do
-      if (flip(k)) call reverse_segment(a, conn(:, k), wgt(:, k), ext(:, :, k))
+      if (flip(k)) call reverse_segment(nens(k), conn(:, k), wgt(:, k), ext(:, :, k))
     end do
-  contains
-    subroutine side_length(kk, n)
-      integer, intent(in) :: kk
-      integer, intent(out) :: n
-      if (faces(kk) == 1 .or. faces(kk) == 3) then
-        n = patch%p(1) + 1
-      else
-        n = patch%p(2) + 1
-      end if
-    end subroutine side_length
   end subroutine patch_side_segments
 end module ictus_contact_surface

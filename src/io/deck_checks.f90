@@ -17,7 +17,13 @@ module ictus_io_deck_checks
       OP_ELEVATE, where_len
   implicit none
   private
-  public :: check_deck
+  public :: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, SKIP_SETS, SKIP_PATCHES, &
+      SKIP_SURFACES
+
+  !> Bits of `check_deck`'s `skip`: a card of this kind was broken (already reported), so
+  !! "used but never defined" checks of this kind would only repeat that problem.
+  integer, parameter :: SKIP_MATERIALS = 1, SKIP_NODES = 2, SKIP_ELEMENTS = 4, SKIP_SETS = 8, &
+      SKIP_PATCHES = 16, SKIP_SURFACES = 32
 
   !> Kinds of defined names (bit flags).
   integer, parameter :: NAME_NSET = 1, NAME_ELSET = 2, NAME_PATCH = 4, NAME_SURFACE = 8
@@ -25,20 +31,25 @@ module ictus_io_deck_checks
   !> The table of defined names.
   type :: names_t
     integer :: n = 0
+    !> SKIP_* bits passed to check_deck.
+    integer :: skip = 0
     character(len=str_len), allocatable :: name(:)
     integer, allocatable :: kind(:)
   end type names_t
 
 contains
 
-  !> Runs every whole-deck check on `d`, reporting problems with `input_error`.
-  subroutine check_deck(d)
+  !> Runs every whole-deck check on `d`, reporting problems with `input_error`. `skip`
+  !! (SKIP_* bits) names the kinds whose definitions had errors already reported.
+  subroutine check_deck(d, skip)
     type(deck_t), intent(in) :: d
+    integer, intent(in) :: skip
     type(names_t) :: names
     call collect_names(d, names)
-    call check_materials(d)
+    names%skip = skip
+    call check_materials(d, iand(skip, SKIP_MATERIALS) /= 0)
     call check_nodes_elements(d, names)
-    call check_patches(d)
+    call check_patches(d, skip)
     call check_sets(d, names)
     call check_uses(d, names)
   end subroutine check_deck
@@ -107,12 +118,17 @@ contains
     integer, intent(in) :: kind
     if (len_trim(name) == 0) return
     if (defined(t, name, kind)) return
+    if (iand(kind, ior(NAME_NSET, NAME_ELSET)) /= 0 .and. &
+        iand(t%skip, ior(SKIP_SETS, ior(SKIP_ELEMENTS, SKIP_PATCHES))) /= 0) return
+    if (iand(kind, NAME_PATCH) /= 0 .and. iand(t%skip, SKIP_PATCHES) /= 0) return
+    if (iand(kind, NAME_SURFACE) /= 0 .and. iand(t%skip, SKIP_SURFACES) /= 0) return
     call input_error(where, card//': '//what//' '//trim(name)//' is used but never defined')
   end subroutine need
 
   !> Every material has *ELASTIC and *DENSITY; element blocks and patches name a material.
-  subroutine check_materials(d)
+  subroutine check_materials(d, skip_undefined)
     type(deck_t), intent(in) :: d
+    logical, intent(in) :: skip_undefined
     integer :: k
     do k = 1, d%n_materials
       if (.not. d%materials(k)%has_elastic) call input_error(d%materials(k)%where, &
@@ -122,6 +138,7 @@ contains
           '*MATERIAL: material '//trim(d%materials(k)%name)//' has no *DENSITY card '// &
           '(expected *DENSITY with "rho")')
     end do
+    if (skip_undefined) return
     do k = 1, d%n_blocks
       if (.not. has_material(d, d%blocks(k)%material)) call input_error(d%blocks(k)%where, &
           '*ELEMENT: material '//trim(d%blocks(k)%material)//' is used but never defined')
@@ -170,6 +187,7 @@ contains
         el_ids(m) = d%blocks(b)%ids(e)
         el_where(m) = trim(d%blocks(b)%file)//':'//str(d%blocks(b)%line(e))
         do a = 1, d%blocks(b)%nen
+          if (iand(t%skip, SKIP_NODES) /= 0) exit
           if (.not. found(node_sorted, d%blocks(b)%conn(a, e))) call input_error( &
               el_where(m), '*ELEMENT: element '//str(el_ids(m))//' references node '// &
               str(d%blocks(b)%conn(a, e))//', which is not defined by any *NODE card')
@@ -191,6 +209,7 @@ contains
       end if
       do k = 1, size(d%surfaces(s)%elem)
         if (d%surfaces(s)%elem(k) > 0) then
+          if (iand(t%skip, SKIP_ELEMENTS) /= 0) cycle
           if (.not. found(el_sorted, d%surfaces(s)%elem(k))) call input_error( &
               d%surfaces(s)%entry_where(k), '*SURFACE: element '// &
               str(d%surfaces(s)%elem(k))//' is not defined by any *ELEMENT card')
@@ -204,8 +223,9 @@ contains
 
   !> Each patch has knots in both directions and control points; *ELEVATE / *REFINE refer
   !! to known patches and never lower the degree.
-  subroutine check_patches(d)
+  subroutine check_patches(d, skip)
     type(deck_t), intent(in) :: d
+    integer, intent(in) :: skip
     integer, allocatable :: deg(:,:)
     integer :: k, p, dir
 
@@ -228,6 +248,7 @@ contains
           if (d%patches(dir)%name == op%patch) p = dir
         end do
         if (p == 0) then
+          if (iand(skip, SKIP_PATCHES) /= 0) cycle
           call input_error(op%where, trim(merge('*ELEVATE', '*REFINE ', &
               op%kind == OP_ELEVATE))//': unknown patch '//trim(op%patch)// &
               ' (expected the NAME= of a *PATCH)')

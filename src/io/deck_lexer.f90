@@ -104,9 +104,9 @@ contains
     call read_whole_file(path, buf, ok)
     if (.not. ok) then
       if (len(from) == 0) then
-        call input_error(path, 'cannot open the deck file "'//shown(path)//'"')
+        call input_error(path, 'cannot open the deck file "'//shown(path, 300)//'"')
       else
-        call input_error(from, '*INCLUDE: cannot open file "'//shown(path)//'"')
+        call input_error(from, '*INCLUDE: cannot open file "'//shown(path, 300)//'"')
       end if
       return
     end if
@@ -145,6 +145,7 @@ contains
     character(len=:), allocatable :: text
     type(keyword_t) :: kw
     logical :: ok
+    integer :: k
 
     text = clean_line(raw)
     if (len(text) == 0) return
@@ -158,13 +159,13 @@ contains
       return
     end if
     in_include = .false.
-    call parse_keyword(text, where, kw, ok)
-    if (ok) then
-      if (kw%name == 'INCLUDE') then
-        in_include = .true.
-        call include_file(kw, where, src%files(ifile)%s, src, stack, depth)
-        return
-      end if
+    k = index(text, ',')
+    if (k == 0) k = len(text) + 1
+    if (upper(collapse_blanks(text(2:k - 1))) == 'INCLUDE') then
+      call parse_keyword(text, where, kw, ok)
+      in_include = .true.
+      if (ok) call include_file(kw, where, src%files(ifile)%s, src, stack, depth)
+      return
     end if
     call push_line(src, deck_line_t(text, ifile, lineno, .true.))
   end subroutine add_line

@@ -12,19 +12,21 @@
 !! checks `error_count() > 0`. Nothing here stops the program.
 module ictus_io_deck_reader
   use ictus_core_kinds, only: dp, i8, str_len
-  use ictus_core_errors, only: input_error
+  use ictus_core_errors, only: input_error, error_count
   use ictus_core_strings, only: upper, str
   use ictus_io_deck_lexer, only: token_t, deck_source_t, keyword_t, load_deck, line_where, &
-      parse_keyword, split_values, parse_real, parse_int, shown, collapse_blanks
+      parse_keyword, split_values, parse_real, parse_int, is_number, shown, collapse_blanks
   use ictus_io_deck_types, only: deck_t, material_in_t, element_block_in_t, set_in_t, &
       surface_in_t, boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, &
       patch_op_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
-      ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_nen, etype_name, &
-      SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, &
+      ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_nen, &
+      etype_name, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, &
+      SIDE_ALL, &
       SURF_ELEMENT, SURF_PATCH, MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, &
       HRZ_FULL, HRZ_GAUSS2, OP_ELEVATE, OP_REFINE, CONTACT_TWO_HALF_PASS, &
       CONTACT_NODE_TO_SEGMENT
-  use ictus_io_deck_checks, only: check_deck
+  use ictus_io_deck_checks, only: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, &
+      SKIP_SETS, SKIP_PATCHES, SKIP_SURFACES
   implicit none
   private
   public :: read_deck
@@ -59,6 +61,8 @@ module ictus_io_deck_reader
     logical :: has_analysis = .false.
     !> Allocated length of the node arrays (>= deck%n_nodes).
     integer :: node_cap = 0
+    !> SKIP_* bits: kinds of definitions that had errors (see check_deck).
+    integer :: broken = 0
   end type reader_t
 
   !> Codes of the choices of TYPE= (ELEMENT, MASS), SIDE= and INTEGRATION=, in list order.
@@ -79,7 +83,7 @@ contains
     type(deck_t), intent(out) :: deck
     type(reader_t) :: rd
     type(card_t) :: card
-    integer :: i, j
+    integer :: i, j, n0
     logical :: ok
 
     call init_deck(path, deck)
@@ -108,15 +112,43 @@ contains
       card%first = i + 1
       card%last = j - 1
       card%bad = .false.
+      n0 = error_count()
       call parse_keyword(rd%src%lines(i)%text, trim(card%where), card%kw, ok)
       if (ok) then
         card%label = '*'//card%kw%name
         call read_card(card, rd, deck)
       end if
+      if (error_count() > n0) call note_broken(card%kw, rd)
       i = j
     end do
     call finish_deck(rd, deck)
   end subroutine read_deck
+
+  !> Remembers which kind of definition a card with errors was (to avoid follow-up errors).
+  subroutine note_broken(kw, rd)
+    type(keyword_t), intent(in) :: kw
+    type(reader_t), intent(inout) :: rd
+    if (.not. allocated(kw%name)) then
+      rd%broken = ior(rd%broken, SKIP_SETS)
+      return
+    end if
+    select case (kw%name)
+    case ('MATERIAL', 'ELASTIC', 'DENSITY')
+      rd%broken = ior(rd%broken, SKIP_MATERIALS)
+    case ('NODE')
+      rd%broken = ior(rd%broken, ior(SKIP_NODES, SKIP_SETS))
+    case ('ELEMENT')
+      rd%broken = ior(rd%broken, ior(SKIP_ELEMENTS, SKIP_SETS))
+    case ('NSET', 'ELSET')
+      rd%broken = ior(rd%broken, SKIP_SETS)
+    case ('PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE')
+      rd%broken = ior(rd%broken, ior(SKIP_PATCHES, SKIP_SETS))
+    case ('SURFACE')
+      rd%broken = ior(rd%broken, SKIP_SURFACES)
+    case default
+      if (.not. is_known_card(kw%name)) rd%broken = ior(rd%broken, 63)
+    end select
+  end subroutine note_broken
 
   !> Sets `deck` to an empty deck with every array allocated (size 0).
   subroutine init_deck(path, deck)
@@ -158,7 +190,7 @@ contains
     deck%patch_ops = deck%patch_ops(1:deck%n_patch_ops)
     deck%pairs = deck%pairs(1:deck%n_pairs)
     deck%walls = deck%walls(1:deck%n_walls)
-    call check_deck(deck)
+    call check_deck(deck, rd%broken)
   end subroutine finish_deck
 
   !> Dispatches one card to its reader, after the context checks (material and patch
@@ -1802,8 +1834,14 @@ contains
     character(len=*), intent(in) :: expect, where
     real(dp), intent(out) :: x
     call parse_real(toks(k)%s, x, ok)
-    if (.not. ok) call input_error(where, expect//', found "'//shown(toks(k)%s)// &
-        '" in field '//str(k)//' (expected a number)')
+    if (ok) return
+    if (is_number(toks(k)%s)) then
+      call input_error(where, expect//', found "'//shown(toks(k)%s)//'" in field '// &
+          str(k)//' (out of range: expected a magnitude between 1e-307 and 1e308)')
+    else
+      call input_error(where, expect//', found "'//shown(toks(k)%s)//'" in field '// &
+          str(k)//' (expected a number)')
+    end if
   end function tok_real
 
   !> Token `k` as a name (upper case); reports a bad name.

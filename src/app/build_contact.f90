@@ -1,0 +1,233 @@
+!> Builds the contact description (`contact_t`) of a model from the deck's *SURFACE,
+!! *CONTACT PAIR and *RIGID WALL cards.
+!!
+!! Element surfaces: each entry "element id or element set, Sk" gives the face k of finite
+!! elements (corner k to corner k+1); an element whose nodes run clockwise is reported as
+!! inverted. Patch surfaces: PATCH=, SIDE= gives one rational Bezier segment per knot span of
+!! the side, oriented counter-clockwise around the patch whatever the sign of det J.
+!! Every problem is reported through `input_error` with its deck location.
+module ictus_app_build_contact
+  use ictus_core_kinds, only: dp, str_len
+  use ictus_core_errors, only: input_error, warning, error_count
+  use ictus_core_strings, only: str, upper
+  use ictus_geometry_sides, only: side_name
+  use ictus_contact_surface, only: SEG_LAGRANGE, SEG_BEZIER, surface_init, face_segment, &
+      element_area, patch_side_segments
+  use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
+      contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT
+  use ictus_solver_model, only: model_t
+  use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
+      CONTACT_NODE_TO_SEGMENT
+  use ictus_app_build_model, only: resolve_elem_set, patch_index
+  use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
+  implicit none
+  private
+  public :: build_contact
+
+contains
+
+  !> Builds `c` from the deck's surfaces, contact pairs and rigid walls (pairs first, then
+  !! walls, in deck order). Problems are reported through input_error; c is set up only if
+  !! no new error was found.
+  !! @param deck the deck; @param model the model built from it; @param c the contact
+  subroutine build_contact(deck, model, c)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(contact_t), intent(inout) :: c
+    type(id_map_t) :: emap
+    integer :: i, k, n0, s1, s2, kind
+    integer, allocatable :: fe_ids(:)
+    character(len=str_len) :: name
+    n0 = error_count()
+    call contact_init(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
+    c%node_id = model%node_id
+    ! FE elements by user id (IGA elements get id -1, which no deck id matches)
+    fe_ids = model%elem_id
+    where (model%patch /= 0) fe_ids = -1
+    call id_map_init(emap, fe_ids)
+    do i = 1, deck%n_surfaces
+      call build_surface(deck, model, emap, deck%surfaces(i), c, i)
+    end do
+    do i = 1, deck%n_pairs
+      associate (p => deck%pairs(i))
+        s1 = surface_index(deck, p%first, p%where, '*CONTACT PAIR')
+        s2 = surface_index(deck, p%second, p%where, '*CONTACT PAIR')
+        if (s1 > 0 .and. s1 == s2) call input_error(p%where, '*CONTACT PAIR '// &
+            trim(p%name)//': both surfaces are '//trim(p%first)// &
+            ' (self-contact is not supported)')
+        if (.not. (p%penalty > 0.0_dp)) call input_error(p%where, '*CONTACT PAIR '// &
+            trim(p%name)//': PENALTY must be positive')
+        kind = PAIR_TWO_HALF_PASS
+        if (p%algorithm == CONTACT_NODE_TO_SEGMENT) kind = PAIR_NODE_TO_SEGMENT
+        name = p%name
+        if (len_trim(name) == 0) name = 'pair'//str(i)
+        call contact_define_pair(c, i, name, kind, p%penalty, max(s1, 1), max(s2, 1))
+        c%pairs(i)%mass_penalty = p%mass_penalty
+      end associate
+    end do
+    do i = 1, deck%n_walls
+      k = deck%n_pairs + i
+      associate (w => deck%walls(i))
+        s1 = surface_index(deck, w%surface, w%where, '*RIGID WALL')
+        if (.not. (w%penalty > 0.0_dp)) call input_error(w%where, '*RIGID WALL '// &
+            trim(w%name)//': PENALTY must be positive')
+        name = w%name
+        if (len_trim(name) == 0) name = 'wall'//str(i)
+        if (norm2(w%normal) > 0.0_dp) then
+          call contact_define_wall(c, k, name, w%point, w%normal, w%penalty, max(s1, 1))
+        else
+          call input_error(w%where, '*RIGID WALL '//trim(w%name)//': NORMAL is zero')
+        end if
+      end associate
+    end do
+    call check_names(deck, c)
+    if (error_count() == n0 .and. c%nsurf > 0) call contact_setup(c)
+  end subroutine build_contact
+
+  !> Pair and wall names must differ (they name groups of the results file).
+  subroutine check_names(deck, c)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(in) :: c
+    integer :: i, j
+    do i = 1, deck%n_walls
+      do j = 1, deck%n_pairs
+        if (c%pairs(deck%n_pairs + i)%name == c%pairs(j)%name) call input_error( &
+            deck%walls(i)%where, '*RIGID WALL '//trim(deck%walls(i)%name)// &
+            ': the name is already used by the *CONTACT PAIR at '//trim(deck%pairs(j)%where))
+      end do
+    end do
+  end subroutine check_names
+
+  !> Index of surface `name` in the deck, 0 (and an error) when undefined.
+  integer function surface_index(deck, name, where, card) result(idx)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name, where, card
+    integer :: i
+    idx = 0
+    do i = 1, deck%n_surfaces
+      if (upper(trim(deck%surfaces(i)%name)) == upper(trim(name))) then
+        idx = i
+        return
+      end if
+    end do
+    call input_error(where, card//': surface '//trim(name)//' is not defined by a '// &
+        '*SURFACE card')
+  end function surface_index
+
+  !> Builds surface i of c from its deck record.
+  subroutine build_surface(deck, model, emap, sin, c, i)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(id_map_t), intent(in) :: emap
+    type(surface_in_t), intent(in) :: sin
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: i
+    integer, allocatable :: conn(:,:), nens(:), elem(:), kinds(:)
+    real(dp), allocatable :: wgt(:,:), ext(:,:,:)
+    integer :: nseg, ip, ierr, e0
+    if (sin%kind == SURF_PATCH) then
+      ip = patch_index(model, sin%patch)
+      if (ip == 0) then
+        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': patch '// &
+            trim(sin%patch)//' is not defined by a *PATCH card')
+        return
+      end if
+      call patch_side_segments(model%patches(ip), model%patch_offset(ip), sin%side, nseg, &
+          nens, conn, wgt, ext, elem, ierr)
+      if (ierr == 1) then
+        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': patch side '// &
+            side_name(sin%side)//' does not exist (expected XI0, XI1, ETA0, ETA1 or ALL)')
+        return
+      else if (ierr == 2) then
+        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': the Jacobian of patch '//&
+            trim(sin%patch)//' vanishes or changes sign along side '//side_name(sin%side)// &
+            ', so the outward normal is undefined (inverted or degenerate patch)')
+        return
+      end if
+      e0 = findloc(model%patch, ip, dim=1) - 1
+      elem = elem + e0
+      allocate(kinds(nseg))
+      kinds = SEG_BEZIER
+      call surface_init(c%surfaces(i), sin%name, kinds, nens, conn, model%x0, wgt=wgt, &
+          ext=ext, elem=elem)
+    else if (sin%kind == SURF_ELEMENT) then
+      call element_faces(deck, model, emap, sin, nseg, conn, nens, elem)
+      if (nseg == 0) then
+        call input_error(sin%where, '*SURFACE '//trim(sin%name)//' has no element faces')
+        return
+      end if
+      allocate(kinds(nseg))
+      kinds = SEG_LAGRANGE
+      call surface_init(c%surfaces(i), sin%name, kinds, nens(1:nseg), conn(:, 1:nseg), &
+          model%x0, elem=elem(1:nseg))
+    end if
+  end subroutine build_surface
+
+  !> Faces of a TYPE=ELEMENT surface: node lists (3, nseg), nodes per face, elements.
+  subroutine element_faces(deck, model, emap, sin, nseg, conn, nens, elem)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(id_map_t), intent(in) :: emap
+    type(surface_in_t), intent(in) :: sin
+    integer, intent(out) :: nseg
+    integer, allocatable, intent(out) :: conn(:,:), nens(:), elem(:)
+    logical, allocatable :: mask(:), used(:,:)
+    integer :: k, e
+    allocate(conn(3, 4*model%nel), nens(4*model%nel), elem(4*model%nel), &
+        mask(model%nel), used(4, model%nel))
+    used = .false.
+    nseg = 0
+    do k = 1, size(sin%face)
+      if (len_trim(sin%elset(k)) > 0) then
+        mask = .false.
+        call resolve_elem_set(deck, model, sin%elset(k), sin%entry_where(k), mask, 0)
+        do e = 1, model%nel
+          if (mask(e)) call add_face(e, k)
+        end do
+      else
+        e = id_map_find(emap, sin%elem(k))
+        if (e == 0) then
+          call input_error(sin%entry_where(k), '*SURFACE '//trim(sin%name)//': element '// &
+              str(sin%elem(k))//' is not defined by an *ELEMENT card')
+        else
+          call add_face(e, k)
+        end if
+      end if
+    end do
+  contains
+    subroutine add_face(ee, kk)
+      integer, intent(in) :: ee, kk
+      integer :: f, nfn
+      real(dp) :: area
+      f = sin%face(kk)
+      if (model%patch(ee) /= 0) then
+        call input_error(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': element '// &
+            str(model%elem_id(ee))//' of patch '//trim(model%patches(model%patch(ee))%name)// &
+            ' has no element faces (use *SURFACE, PATCH=, SIDE=)')
+        return
+      end if
+      if (used(f, ee)) then
+        call warning(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': face S'//str(f)// &
+            ' of element '//str(model%elem_id(ee))//' is listed twice; counted once')
+        return
+      end if
+      used(f, ee) = .true.
+      area = element_area(model%etype(ee), model%x0(:, model%conn(1:model%nen(ee), ee)))
+      if (.not. (area > 0.0_dp)) then
+        call input_error(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': element '// &
+            str(model%elem_id(ee))//' is inverted (its nodes run clockwise, area '// &
+            str(area)//'), so the outward normal of face S'//str(f)//' is undefined')
+        return
+      end if
+      nseg = nseg + 1
+      call face_segment(model%etype(ee), model%conn(:, ee), f, conn(:, nseg), nfn)
+      nens(nseg) = nfn
+      elem(nseg) = ee
+      if (nfn == 0) then
+        call input_error(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': element '// &
+            str(model%elem_id(ee))//' has no face S'//str(f))
+        nseg = nseg - 1
+      end if
+    end subroutine add_face
+  end subroutine element_faces
+end module ictus_app_build_contact

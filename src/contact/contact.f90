@@ -1,0 +1,299 @@
+!> All contact of a model: surfaces, contact pairs and rigid walls, and the two calls the
+!! time step makes: `contact_forces` (penalty forces on predicted coordinates) and
+!! `contact_stability` (the predictor-corrector penalty stability ratio, physics.md 4.4).
+!!
+!! Set-up: `contact_init(c, nsurf, npairs)`, then `surface_init` on each c%surfaces(i),
+!! `contact_define_pair` / `contact_define_wall` for each c%pairs(k), then `contact_setup(c)`.
+!! `ictus_app_build_contact` does this from a deck.
+module ictus_contact_contact
+  use ictus_core_kinds, only: dp, i8, str_len
+  use ictus_core_strings, only: lower, str
+  use ictus_contact_surface, only: contact_surface_t, segment_shape
+  use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
+      PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
+      node_to_segment_forces
+  use ictus_contact_wall, only: wall_forces
+  use ictus_contact_search, only: search_grid_t
+  use ictus_contact_projection, only: projection_t, PROJ_INTERIOR, PROJ_CORNER
+  implicit none
+  private
+  public :: contact_t, contact_init, contact_define_pair, contact_define_wall, contact_setup, &
+      contact_forces, contact_stability, contact_failures, contact_free, contact_pair_t, &
+      contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL
+
+  !> All pairs and walls of a model (walls after the pairs), their surfaces and results.
+  type :: contact_t
+    !> Number of contact pairs plus rigid walls, and each one with its results.
+    integer :: npairs = 0
+    type(contact_pair_t), allocatable :: pairs(:)
+    !> Surfaces referred to by the pairs.
+    integer :: nsurf = 0
+    type(contact_surface_t), allocatable :: surfaces(:)
+    !> User id of each global node (nn), for messages; unallocated: global index.
+    integer, allocatable :: node_id(:)
+    !> Projection failures in the last contact_forces call (all pairs).
+    integer :: failures = 0
+  end type contact_t
+
+contains
+
+  !> Allocates nsurf surfaces and npairs pairs (calls contact_free first).
+  !! @param c contact; @param nsurf surfaces; @param npairs pairs + walls
+  subroutine contact_init(c, nsurf, npairs)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nsurf, npairs
+    call contact_free(c)
+    c%nsurf = nsurf
+    c%npairs = npairs
+    allocate(c%surfaces(nsurf), c%pairs(npairs))
+  end subroutine contact_init
+
+  !> Releases everything.
+  subroutine contact_free(c)
+    type(contact_t), intent(inout) :: c
+    type(contact_t) :: empty
+    c = empty
+  end subroutine contact_free
+
+  !> Defines pair k: a contact pair between surfaces first and second.
+  !! @param c contact; @param k pair index; @param name (stored in lower case);
+  !! @param kind PAIR_TWO_HALF_PASS or PAIR_NODE_TO_SEGMENT; @param penalty eps_N;
+  !! @param first, second surface indices; @param radius search radius, optional
+  !! (default: largest segment length of the two surfaces)
+  subroutine contact_define_pair(c, k, name, kind, penalty, first, second, radius)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: k, kind, first, second
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: penalty
+    real(dp), intent(in), optional :: radius
+    c%pairs(k)%name = lower(trim(name))
+    c%pairs(k)%kind = kind
+    c%pairs(k)%penalty = penalty
+    c%pairs(k)%first = first
+    c%pairs(k)%second = second
+    c%pairs(k)%radius = 0.0_dp
+    if (present(radius)) c%pairs(k)%radius = radius
+  end subroutine contact_define_pair
+
+  !> Defines pair k as a rigid wall against surface `surf`.
+  !! @param c contact; @param k pair index; @param name (lower case); @param point (2);
+  !! @param normal (2), into the allowed side (normalised here; must be non-zero);
+  !! @param penalty eps_N; @param surf surface index
+  subroutine contact_define_wall(c, k, name, point, normal, penalty, surf)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: k, surf
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: point(2), normal(2), penalty
+    c%pairs(k)%name = lower(trim(name))
+    c%pairs(k)%kind = PAIR_WALL
+    c%pairs(k)%penalty = penalty
+    c%pairs(k)%first = surf
+    c%pairs(k)%second = 0
+    c%pairs(k)%wall_point = point
+    c%pairs(k)%wall_normal = normal/norm2(normal)
+  end subroutine contact_define_wall
+
+  !> Sizes all work arrays (after surfaces and pairs are defined).
+  subroutine contact_setup(c)
+    type(contact_t), intent(inout) :: c
+    integer :: k, s2
+    do k = 1, c%npairs
+      s2 = c%pairs(k)%second
+      if (s2 == 0) s2 = c%pairs(k)%first
+      call pair_setup(c%pairs(k), c%surfaces(c%pairs(k)%first), c%surfaces(s2))
+    end do
+  end subroutine contact_setup
+
+  !> Contact forces of all pairs and walls on the current (predicted) coordinates.
+  !! Does not allocate. Updates each pair's results and point output.
+  !! @param c contact; @param nn number of nodes; @param x coordinates x0 + u_pre (2, nn);
+  !! @param fc contact forces (2, nn), zeroed then accumulated;
+  !! @param energy penalty energy: sum over points of 1/2 eps gp^2 w J (TWO HALF PASS: the
+  !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s)
+  subroutine contact_forces(c, nn, x, fc, energy)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: x(2, nn)
+    real(dp), intent(out) :: fc(2, nn)
+    real(dp), intent(out) :: energy
+    integer :: k
+    fc = 0.0_dp
+    energy = 0.0_dp
+    c%failures = 0
+    do k = 1, c%npairs
+      associate (p => c%pairs(k))
+        select case (p%kind)
+        case (PAIR_TWO_HALF_PASS)
+          call two_half_pass_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc)
+        case (PAIR_NODE_TO_SEGMENT)
+          call node_to_segment_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc)
+        case (PAIR_WALL)
+          call wall_forces(p, c%surfaces(p%first), x, fc)
+        end select
+        energy = energy + p%energy
+        c%failures = c%failures + p%failures
+      end associate
+    end do
+  end subroutine contact_forces
+
+  !> Projection failures of the last contact_forces call, over all pairs.
+  pure integer function contact_failures(c)
+    type(contact_t), intent(in) :: c
+    contact_failures = c%failures
+  end function contact_failures
+
+  !> Predictor-corrector penalty stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) over the
+  !! nodes of the contact surfaces (physics.md 4.4-4.5): l_s/m_s of the node, l_m/m_m the
+  !! master's l/m interpolated as sum_A |R_A| l_A/m_A at the node's closest point (the largest
+  !! master l/m when the node has no closest point within the search radius); a rigid wall
+  !! has only the slave term. Both surfaces of a TWO HALF PASS pair act as slave in turn.
+  !! The estimate asks for r <= 1 (r_s <= 1/2 for identical meshes).
+  !! @param c contact; @param nn nodes; @param x coordinates (2, nn); @param m_diag lumped
+  !! nodal masses (nn); @param dt time step; @param r_max largest r (huge for a non-positive
+  !! mass); @param where text naming the worst point (pair, node ids)
+  subroutine contact_stability(c, nn, x, m_diag, dt, r_max, where)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: x(2, nn), m_diag(nn), dt
+    real(dp), intent(out) :: r_max
+    character(len=*), intent(out) :: where
+    integer :: k
+    r_max = 0.0_dp
+    where = ''
+    do k = 1, c%npairs
+      associate (p => c%pairs(k))
+        select case (p%kind)
+        case (PAIR_WALL)
+          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%first), &
+              p%grid_first, .false., nn, x, m_diag, dt, r_max, where)
+        case (PAIR_NODE_TO_SEGMENT)
+          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
+          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%second), &
+              p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+        case default
+          call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first)
+          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
+          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%second), &
+              p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+          call side_ratio(c, p%name, p%penalty, c%surfaces(p%second), c%surfaces(p%first), &
+              p%grid_first, .true., nn, x, m_diag, dt, r_max, where)
+        end select
+      end associate
+    end do
+  end subroutine contact_stability
+
+  !> Stability ratios of the nodes of `slave` against `master` (or a rigid wall when
+  !! has_master is false); keeps the largest in r_max/where.
+  subroutine side_ratio(c, name, penalty, slave, master, grid, has_master, nn, x, m_diag, &
+      dt, r_max, where)
+    type(contact_t), intent(in) :: c
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: penalty
+    type(contact_surface_t), intent(in) :: slave, master
+    type(search_grid_t), intent(in) :: grid
+    logical, intent(in) :: has_master
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: x(2, nn), m_diag(nn), dt
+    real(dp), intent(inout) :: r_max
+    character(len=*), intent(inout) :: where
+    type(projection_t) :: pr
+    real(dp) :: rs, rm, rm_all, r
+    integer :: k, g, gm, gm_all, nf, cand(max(master%nseg, 1))
+    call largest_ratio(master, m_diag, has_master, rm_all, gm_all)
+    do k = 1, slave%nsn
+      g = slave%nodes(k)
+      rs = ell_over_m(slave%ell(k), m_diag(g))
+      rm = 0.0_dp
+      gm = 0
+      if (has_master) then
+        call closest_point(master, grid, x, x(:, g), cand, pr, nf)
+        if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) then
+          call master_ratio(master, pr%seg, pr%t, m_diag, rm, gm)
+        else
+          rm = rm_all
+          gm = gm_all
+        end if
+      end if
+      if (rs >= huge(1.0_dp) .or. rm >= huge(1.0_dp)) then
+        r = huge(1.0_dp)
+      else
+        r = dt*dt*penalty*(rs + rm)
+      end if
+      if (r > r_max .or. len_trim(where) == 0) then
+        r_max = r
+        where = trim(name)//': node '//str(user_id(c, g))
+        if (gm > 0) where = trim(where)//' against node '//str(user_id(c, gm))
+        if (r >= huge(1.0_dp)) where = trim(where)//' (non-positive lumped mass)'
+      end if
+    end do
+  end subroutine side_ratio
+
+  !> Largest l_A/m_A over the nodes of a surface (0 if not wanted) and its node.
+  pure subroutine largest_ratio(surf, m_diag, wanted, rmax, gmax)
+    type(contact_surface_t), intent(in) :: surf
+    real(dp), intent(in) :: m_diag(:)
+    logical, intent(in) :: wanted
+    real(dp), intent(out) :: rmax
+    integer, intent(out) :: gmax
+    real(dp) :: ra
+    integer :: k
+    rmax = 0.0_dp
+    gmax = 0
+    if (.not. wanted) return
+    do k = 1, surf%nsn
+      ra = ell_over_m(surf%ell(k), m_diag(surf%nodes(k)))
+      if (ra > rmax .or. gmax == 0) then
+        rmax = ra
+        gmax = surf%nodes(k)
+      end if
+    end do
+  end subroutine largest_ratio
+
+  !> sum_A |R_A(t)| l_A/m_A on master segment s (huge if a mass is non-positive) and the
+  !! node with the largest |R_A|.
+  pure subroutine master_ratio(master, s, t, m_diag, rm, gm)
+    type(contact_surface_t), intent(in) :: master
+    integer, intent(in) :: s
+    real(dp), intent(in) :: t, m_diag(:)
+    real(dp), intent(out) :: rm
+    integer, intent(out) :: gm
+    real(dp) :: rr(master%nen_max), dr(master%nen_max), ddr(master%nen_max), ra, rbest
+    integer :: a
+    call segment_shape(master, s, t, rr, dr, ddr)
+    rm = 0.0_dp
+    gm = 0
+    rbest = -1.0_dp
+    do a = 1, master%nen(s)
+      ra = ell_over_m(master%ell(master%lnode(a, s)), m_diag(master%conn(a, s)))
+      if (ra >= huge(1.0_dp)) then
+        rm = ra
+      else if (rm < huge(1.0_dp)) then
+        rm = rm + abs(rr(a))*ra
+      end if
+      if (abs(rr(a)) > rbest) then
+        rbest = abs(rr(a))
+        gm = master%conn(a, s)
+      end if
+    end do
+  end subroutine master_ratio
+
+  !> l/m, or huge for a non-positive mass.
+  pure real(dp) function ell_over_m(ell, m)
+    real(dp), intent(in) :: ell, m
+    if (m <= 0.0_dp) then
+      ell_over_m = huge(1.0_dp)
+    else
+      ell_over_m = ell/m
+    end if
+  end function ell_over_m
+
+  !> User id of global node g.
+  pure integer function user_id(c, g)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: g
+    user_id = g
+    if (allocated(c%node_id)) then
+      if (g >= 1 .and. g <= size(c%node_id)) user_id = c%node_id(g)
+    end if
+  end function user_id
+end module ictus_contact_contact

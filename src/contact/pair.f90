@@ -1,0 +1,248 @@
+!> Contact pairs and rigid walls: definition, results, and the penalty force algorithms
+!! TWO HALF PASS and NODE TO SEGMENT (physics.md sections 5.1, 5.3, 5.4).
+!!
+!! * TWO HALF PASS: the Gauss points of each surface are projected onto the other; a point
+!!   with penetration gp > 0 gets the traction eps gp n (n: outward normal of the other
+!!   surface), distributed onto its own surface's nodes with its own shape functions and
+!!   weights w_q J_q. Nothing is put on the other surface in that half-pass.
+!! * NODE TO SEGMENT: each node (control point) s of the first surface, weighted by
+!!   l_s = int N_s dGamma, against the second: +eps gp l_s n on s, -eps gp l_s R_A n on the
+!!   master nodes A of the closest point.
+module ictus_contact_pair
+  use ictus_core_kinds, only: dp, i8, str_len
+  use ictus_contact_surface, only: contact_surface_t, segment_bbox, segment_shape
+  use ictus_contact_search, only: search_grid_t, grid_init, grid_build, grid_query
+  use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
+      PROJ_CORNER
+  implicit none
+  private
+  public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
+      pair_setup, pair_reset_results, update_grid, closest_point, half_pass, &
+      two_half_pass_forces, node_to_segment_forces
+
+  !> Pair kinds.
+  integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3
+
+  !> One *CONTACT PAIR or *RIGID WALL with its results of the last force evaluation.
+  type :: contact_pair_t
+    !> Name in lower case (as used in the results file).
+    character(len=str_len) :: name = ''
+    !> PAIR_* kind, penalty eps_N, bipenalty mass penalty from the deck (< 0: none).
+    integer :: kind = PAIR_TWO_HALF_PASS
+    real(dp) :: penalty = 0.0_dp
+    real(dp) :: mass_penalty = -1.0_dp
+    !> Surface indices (in contact_t%surfaces) of the first and second surface (0: wall).
+    integer :: first = 0
+    integer :: second = 0
+    !> Rigid wall: a point of the plane and the unit normal into the allowed side.
+    real(dp) :: wall_point(2) = 0.0_dp
+    real(dp) :: wall_normal(2) = 0.0_dp
+    !> Search radius (box growth) of the global search.
+    real(dp) :: radius = 0.0_dp
+    !> Results: resultant force on the first and on the second surface (for a wall: the
+    !! force on the wall, i.e. minus force_first), largest pressure and penetration, number
+    !! of contact points in contact, contact energy, projection failures in the last call
+    !! and in all calls.
+    real(dp) :: force_first(2) = 0.0_dp
+    real(dp) :: force_second(2) = 0.0_dp
+    real(dp) :: max_pressure = 0.0_dp
+    real(dp) :: max_penetration = 0.0_dp
+    integer :: active_points = 0
+    real(dp) :: energy = 0.0_dp
+    integer :: failures = 0
+    integer(i8) :: failures_total = 0
+    !> Contact points of the first surface (Gauss points, or nodes for NODE TO SEGMENT):
+    !! current coordinates (2, npoints) and pressure eps gp (npoints), 0 where open.
+    integer :: npoints = 0
+    real(dp), allocatable :: x(:,:)
+    real(dp), allocatable :: pressure(:)
+    !> Search grids with the first / the second surface as master, candidate work array.
+    type(search_grid_t) :: grid_first, grid_second
+    integer, allocatable :: cand(:)
+  end type contact_pair_t
+
+contains
+
+  !> Sizes the work arrays of a pair and sets its search radius (the largest reference
+  !! segment length of its surfaces, unless radius > 0 is already set).
+  !! @param pair the pair; @param s1 first surface; @param s2 second surface (ignored for a
+  !! wall)
+  subroutine pair_setup(pair, s1, s2)
+    type(contact_pair_t), intent(inout) :: pair
+    type(contact_surface_t), intent(in) :: s1, s2
+    integer :: ncand
+    if (pair%kind == PAIR_NODE_TO_SEGMENT) then
+      pair%npoints = s1%nsn
+    else
+      pair%npoints = s1%ngp
+    end if
+    if (allocated(pair%x)) deallocate(pair%x)
+    if (allocated(pair%pressure)) deallocate(pair%pressure)
+    if (allocated(pair%cand)) deallocate(pair%cand)
+    allocate(pair%x(2, pair%npoints), pair%pressure(pair%npoints))
+    pair%x = 0.0_dp
+    pair%pressure = 0.0_dp
+    ncand = s1%nseg
+    if (pair%kind /= PAIR_WALL) then
+      ncand = max(ncand, s2%nseg)
+      if (pair%radius <= 0.0_dp) pair%radius = max(s1%hmax, s2%hmax)
+      call grid_init(pair%grid_first, s1%nseg)
+      call grid_init(pair%grid_second, s2%nseg)
+    end if
+    allocate(pair%cand(max(ncand, 1)))
+    call pair_reset_results(pair)
+  end subroutine pair_setup
+
+  !> Zeroes the per-call results of a pair.
+  pure subroutine pair_reset_results(pair)
+    type(contact_pair_t), intent(inout) :: pair
+    pair%force_first = 0.0_dp
+    pair%force_second = 0.0_dp
+    pair%max_pressure = 0.0_dp
+    pair%max_penetration = 0.0_dp
+    pair%active_points = 0
+    pair%energy = 0.0_dp
+    pair%failures = 0
+  end subroutine pair_reset_results
+
+  !> Rebuilds a search grid over the current bounding boxes of a master surface's segments,
+  !! grown by radius.
+  !! @param surf master surface; @param x coordinates (2, nn); @param radius growth;
+  !! @param grid its grid (from grid_init with surf%nseg boxes)
+  subroutine update_grid(surf, x, radius, grid)
+    type(contact_surface_t), intent(in) :: surf
+    real(dp), intent(in) :: x(:,:), radius
+    type(search_grid_t), intent(inout) :: grid
+    integer :: s
+    do s = 1, surf%nseg
+      call segment_bbox(surf, s, x, radius, grid%box(:, s))
+    end do
+    call grid_build(grid)
+  end subroutine update_grid
+
+  !> Closest point of a master surface to xs: global search in its grid, then projection.
+  !! @param master surface; @param grid its built grid; @param x coordinates (2, nn);
+  !! @param xs point (2); @param cand work (>= master%nseg); @param res projection;
+  !! @param nfail 1 if a projection failed
+  pure subroutine closest_point(master, grid, x, xs, cand, res, nfail)
+    type(contact_surface_t), intent(in) :: master
+    type(search_grid_t), intent(in) :: grid
+    real(dp), intent(in) :: x(:,:), xs(2)
+    integer, intent(inout) :: cand(:)
+    type(projection_t), intent(out) :: res
+    integer, intent(out) :: nfail
+    integer :: ncand
+    call grid_query(grid, xs, cand, ncand)
+    call project_point(master, x, xs, cand, ncand, res, nfail)
+  end subroutine closest_point
+
+  !> One half-pass: the Gauss points of `slave` against `master` (grid built); forces on
+  !! the slave's nodes only.
+  !! @param slave, master surfaces; @param grid master's grid; @param x (2, nn);
+  !! @param eps penalty; @param cand work; @param fc forces (2, nn), accumulated;
+  !! @param force resultant on the slave (2), accumulated; @param energy sum 1/2 eps gp^2 wJ,
+  !! accumulated; @param pmax, gmax max pressure/penetration; @param nact active points;
+  !! @param nfail failed projections; @param xout, pout optional point output (2, ngp), (ngp)
+  pure subroutine half_pass(slave, master, grid, x, eps, cand, fc, force, energy, pmax, gmax, &
+      nact, nfail, xout, pout)
+    type(contact_surface_t), intent(in) :: slave, master
+    type(search_grid_t), intent(in) :: grid
+    real(dp), intent(in) :: x(:,:), eps
+    integer, intent(inout) :: cand(:)
+    real(dp), intent(inout) :: fc(:,:), force(2), energy, pmax, gmax
+    integer, intent(inout) :: nact, nfail
+    real(dp), intent(inout), optional :: xout(:,:), pout(:)
+    type(projection_t) :: pr
+    real(dp) :: xq(2), gp, tr(2), wj
+    integer :: q, s, a, g, nf
+    do q = 1, slave%ngp
+      s = slave%gp_seg(q)
+      xq = 0.0_dp
+      do a = 1, slave%nen(s)
+        xq = xq + slave%gp_r(a, q)*x(:, slave%conn(a, s))
+      end do
+      call closest_point(master, grid, x, xq, cand, pr, nf)
+      nfail = nfail + nf
+      gp = 0.0_dp
+      if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)
+      if (present(xout)) xout(:, q) = xq
+      if (present(pout)) pout(q) = eps*gp
+      if (gp <= 0.0_dp) cycle
+      wj = slave%gp_wj(q)
+      tr = eps*gp*pr%normal
+      do a = 1, slave%nen(s)
+        g = slave%conn(a, s)
+        fc(:, g) = fc(:, g) + slave%gp_r(a, q)*wj*tr
+      end do
+      force = force + wj*tr
+      energy = energy + 0.5_dp*eps*gp*gp*wj
+      pmax = max(pmax, eps*gp)
+      gmax = max(gmax, gp)
+      nact = nact + 1
+    end do
+  end subroutine half_pass
+
+  !> TWO HALF PASS forces of one pair. The pair's energy is the mean of the two half-passes
+  !! (each half-pass alone carries the whole penalty energy of the interface).
+  !! @param pair the pair (results updated); @param s1, s2 its surfaces; @param x (2, nn);
+  !! @param fc forces (2, nn), accumulated
+  subroutine two_half_pass_forces(pair, s1, s2, x, fc)
+    type(contact_pair_t), intent(inout) :: pair
+    type(contact_surface_t), intent(in) :: s1, s2
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(inout) :: fc(:,:)
+    real(dp) :: e1, e2
+    call pair_reset_results(pair)
+    call update_grid(s1, x, pair%radius, pair%grid_first)
+    call update_grid(s2, x, pair%radius, pair%grid_second)
+    e1 = 0.0_dp
+    e2 = 0.0_dp
+    call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
+        pair%force_first, e1, pair%max_pressure, pair%max_penetration, pair%active_points, &
+        pair%failures, pair%x, pair%pressure)
+    call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
+        pair%force_second, e2, pair%max_pressure, pair%max_penetration, pair%active_points, &
+        pair%failures)
+    pair%energy = 0.5_dp*(e1 + e2)
+    pair%failures_total = pair%failures_total + pair%failures
+  end subroutine two_half_pass_forces
+
+  !> NODE TO SEGMENT forces of one pair: nodes of s1 (slave) against s2 (master).
+  !! @param pair the pair (results updated); @param s1 slave, s2 master; @param x (2, nn);
+  !! @param fc forces (2, nn), accumulated
+  subroutine node_to_segment_forces(pair, s1, s2, x, fc)
+    type(contact_pair_t), intent(inout) :: pair
+    type(contact_surface_t), intent(in) :: s1, s2
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(inout) :: fc(:,:)
+    type(projection_t) :: pr
+    real(dp) :: xs(2), gp, fs(2), r(s2%nen_max), dr(s2%nen_max), ddr(s2%nen_max)
+    integer :: k, g, a, nf
+    call pair_reset_results(pair)
+    call update_grid(s2, x, pair%radius, pair%grid_second)
+    do k = 1, s1%nsn
+      g = s1%nodes(k)
+      xs = x(:, g)
+      call closest_point(s2, pair%grid_second, x, xs, pair%cand, pr, nf)
+      pair%failures = pair%failures + nf
+      gp = 0.0_dp
+      if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)
+      pair%x(:, k) = xs
+      pair%pressure(k) = pair%penalty*gp
+      if (gp <= 0.0_dp) cycle
+      fs = pair%penalty*gp*s1%ell(k)*pr%normal
+      fc(:, g) = fc(:, g) + fs
+      call segment_shape(s2, pr%seg, pr%t, r, dr, ddr)
+      do a = 1, s2%nen(pr%seg)
+        fc(:, s2%conn(a, pr%seg)) = fc(:, s2%conn(a, pr%seg)) - r(a)*fs
+      end do
+      pair%force_first = pair%force_first + fs
+      pair%force_second = pair%force_second - fs
+      pair%energy = pair%energy + 0.5_dp*pair%penalty*gp*gp*s1%ell(k)
+      pair%max_pressure = max(pair%max_pressure, pair%penalty*gp)
+      pair%max_penetration = max(pair%max_penetration, gp)
+      pair%active_points = pair%active_points + 1
+    end do
+    pair%failures_total = pair%failures_total + pair%failures
+  end subroutine node_to_segment_forces
+end module ictus_contact_pair

@@ -1,0 +1,295 @@
+!> Contact forces and stability through the public API (contact_t): flat interfaces between
+!! straight Q8 meshes and NURBS patches with a uniform penetration g (physics.md 5.3, 5.4,
+!! 6.3), a rigid wall, node-to-segment, and the stability ratio of physics.md 4.5.
+!!
+!! Exact answers for a flat interface of length L with penetration g: pressure eps g at every
+!! contact point, resultant eps g L on each body (equal and opposite), penalty energy
+!! 1/2 eps g^2 L, nodal forces eps g l_A.
+program test_contact
+  use ictus_core_kinds, only: dp
+  use ictus_test_check, only: checker_t
+  use ictus_elements_types, only: ETYPE_Q8
+  use ictus_geometry_patch, only: patch_t, patch_refine
+  use ictus_geometry_sides, only: SIDE_ETA0, SIDE_ETA1
+  use ictus_contact_surface, only: surface_init, face_segment, element_area, &
+      patch_side_segments, SEG_LAGRANGE, SEG_BEZIER
+  use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
+      contact_define_wall, contact_setup, contact_forces, contact_stability, &
+      contact_failures, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT
+  implicit none
+  type(checker_t) :: t
+  real(dp), parameter :: eps = 1.0e5_dp, gap = 1.0e-3_dp, len = 2.0_dp
+  call t%start("contact/contact")
+  call q8_two_half_pass(t, 4, 4, 'Q8 matching')
+  call q8_two_half_pass(t, 4, 5, 'Q8 4 vs 5')
+  call nurbs_two_half_pass(t, .false., 'NURBS')
+  call nurbs_two_half_pass(t, .true., 'Q8 vs NURBS')
+  call q8_node_to_segment(t)
+  call q8_rigid_wall(t)
+  call q8_stability(t)
+  call t%finish()
+
+contains
+
+  !> Appends a row of ne square-ish Q8 elements [xa, xa + ne h] x [ya, ya + hy] to x(:, 1:nn)
+  !! and returns their connectivity (8, ne) (corners counter-clockwise, then midsides).
+  subroutine q8_row(ne, xa, ya, h, hy, x, nn, econn)
+    integer, intent(in) :: ne
+    real(dp), intent(in) :: xa, ya, h, hy
+    real(dp), intent(inout) :: x(:,:)
+    integer, intent(inout) :: nn
+    integer, intent(out) :: econn(8, ne)
+    integer :: i, e, b0, t0, bm0, tm0, v0
+    b0 = nn
+    t0 = nn + ne + 1
+    bm0 = nn + 2*(ne + 1)
+    tm0 = bm0 + ne
+    v0 = tm0 + ne
+    do i = 0, ne
+      x(:, b0 + i + 1) = [xa + i*h, ya]
+      x(:, t0 + i + 1) = [xa + i*h, ya + hy]
+      x(:, v0 + i + 1) = [xa + i*h, ya + 0.5_dp*hy]
+    end do
+    do e = 1, ne
+      x(:, bm0 + e) = [xa + (e - 0.5_dp)*h, ya]
+      x(:, tm0 + e) = [xa + (e - 0.5_dp)*h, ya + hy]
+      econn(:, e) = [b0 + e, b0 + e + 1, t0 + e + 1, t0 + e, bm0 + e, v0 + e + 1, tm0 + e, &
+          v0 + e]
+    end do
+    nn = v0 + ne + 1
+  end subroutine q8_row
+
+  !> Surface `is` of c from face `face` of every element of a Q8 row.
+  subroutine q8_surface(c, is, name, econn, face, x)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: is, econn(:,:), face
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer :: conn(3, size(econn, 2)), nens(size(econn, 2)), kinds(size(econn, 2)), e
+    do e = 1, size(econn, 2)
+      call face_segment(ETYPE_Q8, econn(:, e), face, conn(:, e), nens(e))
+    end do
+    kinds = SEG_LAGRANGE
+    call surface_init(c%surfaces(is), name, kinds, nens, conn, x)
+  end subroutine q8_surface
+
+  !> Surface `is` of c from side `side` of a biquadratic patch over [xa, xa+len] x [ya, ya+1],
+  !! refined into k1 x 2 elements; its control points are appended to x.
+  subroutine nurbs_surface(c, is, name, xa, ya, k1, side, x, nn)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: is, k1, side
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: xa, ya
+    real(dp), intent(inout) :: x(:,:)
+    integer, intent(inout) :: nn
+    type(patch_t) :: patch
+    real(dp) :: cp(3, 9)
+    integer :: i, j, nseg, ierr
+    integer, allocatable :: nens(:), conn(:,:), elem(:), kinds(:)
+    real(dp), allocatable :: wgt(:,:), ext(:,:,:)
+    do j = 0, 2
+      do i = 0, 2
+        cp(:, 1 + i + 3*j) = [xa + 0.5_dp*len*i, ya + 0.5_dp*j, 1.0_dp]
+      end do
+    end do
+    call patch%init(name, [2, 2], [3, 3], [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], &
+        [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], cp)
+    call patch_refine(patch, [k1, 2])
+    do i = 1, patch%n(1)*patch%n(2)
+      x(:, nn + i) = patch%cp(1:2, i)
+    end do
+    call patch_side_segments(patch, nn, side, nseg, nens, conn, wgt, ext, elem, ierr)
+    call t%equal_int(ierr, 0, name//': side ok')
+    nn = nn + patch%n(1)*patch%n(2)
+    allocate(kinds(nseg))
+    kinds = SEG_BEZIER
+    call surface_init(c%surfaces(is), name, kinds, nens, conn, x(:, 1:nn), wgt=wgt, ext=ext)
+  end subroutine nurbs_surface
+
+  !> Checks of a flat interface along y = 0 (first surface below, second above, pair 1).
+  subroutine check_flat(t, c, nn, x, label)
+    type(checker_t), intent(inout) :: t
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: x(:,:)
+    character(len=*), intent(in) :: label
+    real(dp) :: fc(2, nn), energy, integral, f1(2)
+    integer :: q, k
+    call contact_forces(c, nn, x(:, 1:nn), fc, energy)
+    associate (p => c%pairs(1), s1 => c%surfaces(1), s2 => c%surfaces(2))
+      call t%close(p%force_first(2), -eps*gap*len, 1.0e-12_dp, label//': resultant first')
+      call t%close(p%force_second(2), eps*gap*len, 1.0e-12_dp, label//': resultant second')
+      call t%close_abs(p%force_first(1), 0.0_dp, 1.0e-9_dp, label//': no tangential force')
+      call t%close_abs(p%force_first(2) + p%force_second(2), 0.0_dp, 1.0e-9_dp, &
+          label//': momentum balance')
+      call t%close(energy, 0.5_dp*eps*gap**2*len, 1.0e-10_dp, label//': energy')
+      call t%close(p%max_pressure, eps*gap, 1.0e-9_dp, label//': max pressure')
+      call t%close(p%max_penetration, gap, 1.0e-9_dp, label//': max penetration')
+      call t%equal_int(p%active_points, s1%ngp + s2%ngp, label//': active points')
+      call t%equal_int(contact_failures(c), 0, label//': no projection failures')
+      call t%equal_int(p%npoints, s1%ngp, label//': output points')
+      integral = 0.0_dp
+      do q = 1, s1%ngp
+        call t%close(p%pressure(q), eps*gap, 1.0e-9_dp, label//': pressure at a point')
+        integral = integral + p%pressure(q)*s1%gp_wj(q)
+      end do
+      call t%close(integral, -p%force_first(2), 1.0e-12_dp, label//': int p = resultant')
+      f1 = 0.0_dp
+      do k = 1, s1%nsn
+        f1 = f1 + fc(:, s1%nodes(k))
+        call t%close(fc(2, s1%nodes(k)), -eps*gap*s1%ell(k), 1.0e-9_dp, &
+            label//': nodal force eps g l_A')
+      end do
+      call t%close(f1(2), p%force_first(2), 1.0e-12_dp, label//': nodal forces sum')
+    end associate
+  end subroutine check_flat
+
+  !> Two Q8 rows: below y = 0 (face S3, ne1 elements) and above y = -gap (face S1, ne2).
+  subroutine q8_two_half_pass(t, ne1, ne2, label)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: ne1, ne2
+    character(len=*), intent(in) :: label
+    type(contact_t) :: c
+    real(dp) :: x(2, 200)
+    integer :: nn, e1(8, ne1), e2(8, ne2), e
+    nn = 0
+    call q8_row(ne1, 0.0_dp, -1.0_dp, len/ne1, 1.0_dp, x, nn, e1)
+    call q8_row(ne2, 0.0_dp, -gap, len/ne2, 1.0_dp, x, nn, e2)
+    do e = 1, ne1
+      call t%true(element_area(ETYPE_Q8, x(:, e1(:, e))) > 0.0_dp, label//': area > 0')
+    end do
+    call contact_init(c, 2, 1)
+    call q8_surface(c, 1, 'LOW', e1, 3, x(:, 1:nn))
+    call q8_surface(c, 2, 'UP', e2, 1, x(:, 1:nn))
+    call contact_define_pair(c, 1, 'Flat', PAIR_TWO_HALF_PASS, eps, 1, 2)
+    call contact_setup(c)
+    call t%true(c%pairs(1)%name == 'flat', label//': name in lower case')
+    call check_flat(t, c, nn, x, label)
+  end subroutine q8_two_half_pass
+
+  !> Two NURBS patches (4 and 5 spans along the interface), or a Q8 row against a patch.
+  subroutine nurbs_two_half_pass(t, q8_first, label)
+    type(checker_t), intent(inout) :: t
+    logical, intent(in) :: q8_first
+    character(len=*), intent(in) :: label
+    type(contact_t) :: c
+    real(dp) :: x(2, 400)
+    integer :: nn, e1(8, 3)
+    nn = 0
+    call contact_init(c, 2, 1)
+    if (q8_first) then
+      call q8_row(3, 0.0_dp, -1.0_dp, len/3, 1.0_dp, x, nn, e1)
+      call q8_surface(c, 1, 'LOW', e1, 3, x(:, 1:nn))
+    else
+      call nurbs_surface(c, 1, 'LOW', 0.0_dp, -1.0_dp, 4, SIDE_ETA1, x, nn)
+    end if
+    call nurbs_surface(c, 2, 'UP', 0.0_dp, -gap, 5, SIDE_ETA0, x, nn)
+    call contact_define_pair(c, 1, 'flat', PAIR_TWO_HALF_PASS, eps, 1, 2)
+    call contact_setup(c)
+    call check_flat(t, c, nn, x, label)
+  end subroutine nurbs_two_half_pass
+
+  !> NODE TO SEGMENT: nodes of the upper Q8 row's face (slave) against the lower row.
+  subroutine q8_node_to_segment(t)
+    type(checker_t), intent(inout) :: t
+    type(contact_t) :: c
+    real(dp) :: x(2, 200), fc(2, 200), energy, fsum(2)
+    integer :: nn, e1(8, 4), e2(8, 5), k
+    nn = 0
+    call q8_row(4, 0.0_dp, -1.0_dp, len/4, 1.0_dp, x, nn, e1)
+    call q8_row(5, 0.0_dp, -gap, len/5, 1.0_dp, x, nn, e2)
+    call contact_init(c, 2, 1)
+    call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
+    call q8_surface(c, 2, 'LOW', e1, 3, x(:, 1:nn))
+    call contact_define_pair(c, 1, 'nts', PAIR_NODE_TO_SEGMENT, eps, 1, 2)
+    call contact_setup(c)
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    associate (p => c%pairs(1), s1 => c%surfaces(1))
+      call t%close(p%force_first(2), eps*gap*len, 1.0e-12_dp, 'NTS: resultant on slave')
+      call t%close(p%force_second(2), -eps*gap*len, 1.0e-12_dp, 'NTS: resultant on master')
+      call t%close(energy, 0.5_dp*eps*gap**2*len, 1.0e-10_dp, 'NTS: energy')
+      call t%equal_int(p%npoints, s1%nsn, 'NTS: one output point per slave node')
+      call t%equal_int(p%active_points, s1%nsn, 'NTS: all slave nodes active')
+      do k = 1, s1%nsn
+        call t%close(fc(2, s1%nodes(k)), eps*gap*s1%ell(k), 1.0e-9_dp, 'NTS: eps g l_s')
+        call t%close(p%pressure(k), eps*gap, 1.0e-9_dp, 'NTS: pressure')
+      end do
+      fsum = sum(fc(:, 1:nn), dim=2)
+      call t%close_abs(fsum(2), 0.0_dp, 1.0e-9_dp, 'NTS: forces balance')
+    end associate
+  end subroutine q8_node_to_segment
+
+  !> Rigid wall y = 0 (normal (0, 1)) against the lower face of a Q8 row at y = -gap.
+  subroutine q8_rigid_wall(t)
+    type(checker_t), intent(inout) :: t
+    type(contact_t) :: c
+    real(dp) :: x(2, 100), fc(2, 100), energy
+    integer :: nn, e2(8, 5), q
+    nn = 0
+    call q8_row(5, 0.0_dp, -gap, len/5, 1.0_dp, x, nn, e2)
+    call contact_init(c, 1, 1)
+    call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
+    call contact_define_wall(c, 1, 'Floor', [3.0_dp, 0.0_dp], [0.0_dp, 2.0_dp], eps, 1)
+    call contact_setup(c)
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    associate (p => c%pairs(1), s1 => c%surfaces(1))
+      call t%close(p%force_first(2), eps*gap*len, 1.0e-12_dp, 'wall: resultant on surface')
+      call t%close(p%force_second(2), -eps*gap*len, 1.0e-12_dp, 'wall: force on the wall')
+      call t%close(sum(fc(2, 1:nn)), eps*gap*len, 1.0e-12_dp, 'wall: nodal forces sum')
+      call t%close(energy, 0.5_dp*eps*gap**2*len, 1.0e-10_dp, 'wall: energy')
+      do q = 1, s1%ngp
+        call t%close(p%pressure(q), eps*gap, 1.0e-9_dp, 'wall: pressure')
+        call t%close(p%x(2, q), -gap, 1.0e-12_dp, 'wall: point y')
+      end do
+    end associate
+    ! moved clear of the wall: no force
+    x(2, 1:nn) = x(2, 1:nn) + 2.0_dp*gap
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%close_abs(maxval(abs(fc(:, 1:nn))), 0.0_dp, 0.0_dp, 'wall: open, no force')
+    call t%equal_int(c%pairs(1)%active_points, 0, 'wall: open, no active point')
+  end subroutine q8_rigid_wall
+
+  !> Stability ratio of a straight Q8 HRZ (2x2, corner 1/36, midside 8/36 of rho h^2) edge of
+  !! square elements, physics.md 4.5 with dt^2 eps/rho = 0.025: against a rigid wall the
+  !! corner gives r_s = dt^2 eps (h/3)/(rho h^2/18) = 0.15/h; two identical meshes twice that.
+  subroutine q8_stability(t)
+    type(checker_t), intent(inout) :: t
+    type(contact_t) :: c
+    real(dp), parameter :: h = 0.5_dp, rho = 1.0_dp, dt = 5.0e-4_dp
+    real(dp) :: x(2, 200), m(200), r
+    integer :: nn, e1(8, 4), e2(8, 4), e, a
+    character(len=200) :: where
+    nn = 0
+    call q8_row(4, 0.0_dp, -h, h, h, x, nn, e1)
+    call q8_row(4, 0.0_dp, 0.0_dp, h, h, x, nn, e2)
+    m = 0.0_dp
+    do e = 1, 4
+      do a = 1, 8
+        if (a <= 4) then
+          m(e1(a, e)) = m(e1(a, e)) + rho*h*h/36.0_dp
+          m(e2(a, e)) = m(e2(a, e)) + rho*h*h/36.0_dp
+        else
+          m(e1(a, e)) = m(e1(a, e)) + 8.0_dp*rho*h*h/36.0_dp
+          m(e2(a, e)) = m(e2(a, e)) + 8.0_dp*rho*h*h/36.0_dp
+        end if
+      end do
+    end do
+    call contact_init(c, 2, 2)
+    call q8_surface(c, 1, 'LOW', e1, 3, x(:, 1:nn))
+    call q8_surface(c, 2, 'UP', e2, 1, x(:, 1:nn))
+    call t%close(c%surfaces(1)%ell(1), h/3.0_dp, 1.0e-12_dp, 'corner l_s = h/3')
+    call contact_define_wall(c, 1, 'wall', [0.0_dp, 0.0_dp], [0.0_dp, -1.0_dp], 1.0e5_dp, 1)
+    call contact_define_pair(c, 2, 'pair', PAIR_TWO_HALF_PASS, 1.0e5_dp, 1, 2)
+    call contact_setup(c)
+    ! the wall alone
+    c%npairs = 1
+    call contact_stability(c, nn, x(:, 1:nn), m(1:nn), dt, r, where)
+    call t%close(r, 0.15_dp/h, 1.0e-10_dp, 'rigid wall: r = 0.15/h')
+    call t%true(index(where, 'wall: node') == 1, 'rigid wall: where names the node')
+    c%npairs = 2
+    call contact_stability(c, nn, x(:, 1:nn), m(1:nn), dt, r, where)
+    call t%close(r, 2.0_dp*0.15_dp/h, 1.0e-10_dp, 'two Q8 bodies: r = 2 x 0.15/h')
+    call t%true(index(where, 'pair: node') == 1 .and. index(where, 'against node') > 0, &
+        'two bodies: where names both nodes')
+  end subroutine q8_stability
+end program test_contact
