@@ -152,13 +152,15 @@ def body_cards(a):
         out.append(f"*SURFACE, NAME={name}_ARC, PATCH={name}, SIDE={sides['ARC']}\n")
     else:
         nodes, elems = q8_mesh(net, a.n)
+        off = a.id_offset
         out.append("*NODE\n")
-        out += [f"{nid}, {x:.17g}, {y:.17g}\n" for nid, x, y in nodes.values()]
+        out += [f"{nid + off}, {x:.17g}, {y:.17g}\n" for nid, x, y in nodes.values()]
         out.append(f"*ELEMENT, TYPE=Q8, ELSET={name}, MATERIAL={a.material}\n")
-        out += [f"{eid}, " + ", ".join(map(str, c)) + "\n" for eid, c in elems]
-        out.append(f"*NSET, NSET={name}_SYM\n" + _lines(_side_nodes(nodes, sides["SYM"], 2 * a.n)))
+        out += [f"{eid + off}, " + ", ".join(str(n + off) for n in c) + "\n" for eid, c in elems]
+        sym = [n + off for n in _side_nodes(nodes, sides["SYM"], 2 * a.n)]
+        out.append(f"*NSET, NSET={name}_SYM\n" + _lines(sym))
         out.append(f"*SURFACE, NAME={name}_ARC, TYPE=ELEMENT\n")
-        out += [f"{e}, {f}\n" for e, f in _side_faces(a.n, sides["ARC"])]
+        out += [f"{e + off}, {f}\n" for e, f in _side_faces(a.n, sides["ARC"])]
     return "".join(out)
 
 
@@ -224,6 +226,8 @@ def parser():
     ap.add_argument("--t-end", type=float, default=0.9)
     ap.add_argument("--field-every", type=int, default=0, help="0: the program's default")
     ap.add_argument("--body-only", action="store_true")
+    ap.add_argument("--id-offset", type=int, default=0,
+                    help="Q8: added to every node and element id (for two bodies in one deck)")
     return ap
 
 

@@ -50,8 +50,8 @@ contains
     end do
     do i = 1, deck%n_pairs
       associate (p => deck%pairs(i))
-        s1 = surface_index(deck, p%first, p%where, '*CONTACT PAIR')
-        s2 = surface_index(deck, p%second, p%where, '*CONTACT PAIR')
+        s1 = surface_index(deck, p%first, p%where, '*CONTACT PAIR '//trim(p%name))
+        s2 = surface_index(deck, p%second, p%where, '*CONTACT PAIR '//trim(p%name))
         if (s1 > 0 .and. s1 == s2) call input_error(p%where, '*CONTACT PAIR '// &
             trim(p%name)//': both surfaces are '//trim(p%first)// &
             ' (self-contact is not supported)')
@@ -68,7 +68,7 @@ contains
     do i = 1, deck%n_walls
       k = deck%n_pairs + i
       associate (w => deck%walls(i))
-        s1 = surface_index(deck, w%surface, w%where, '*RIGID WALL')
+        s1 = surface_index(deck, w%surface, w%where, '*RIGID WALL '//trim(w%name))
         if (.not. (w%penalty > 0.0_dp)) call input_error(w%where, '*RIGID WALL '// &
             trim(w%name)//': PENALTY must be positive')
         name = w%name
@@ -124,7 +124,7 @@ contains
     integer, intent(in) :: i
     integer, allocatable :: conn(:,:), nens(:), elem(:), kinds(:)
     real(dp), allocatable :: wgt(:,:), ext(:,:,:)
-    integer :: nseg, ip, ierr, e0
+    integer :: nseg, ip, ierr, e0, n0
     if (sin%kind == SURF_PATCH) then
       ip = patch_index(model, sin%patch)
       if (ip == 0) then
@@ -151,8 +151,9 @@ contains
       call surface_init(c%surfaces(i), sin%name, kinds, nens, conn, model%x0, wgt=wgt, &
           ext=ext, elem=elem)
     else if (sin%kind == SURF_ELEMENT) then
+      n0 = error_count()
       call element_faces(deck, model, emap, sin, nseg, conn, nens, elem)
-      if (nseg == 0) then
+      if (nseg == 0 .and. error_count() == n0) then
         call input_error(sin%where, '*SURFACE '//trim(sin%name)//' has no element faces')
         return
       end if

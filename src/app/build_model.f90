@@ -64,10 +64,6 @@ contains
       if (deck%step%restart_every > 0) call input_error(deck%step%where, &
           '*RESTART: checkpoints are not implemented in this version of ictus')
     end if
-    if (deck%n_pairs > 0) call input_error(deck%pairs(1)%where, &
-        '*CONTACT PAIR: contact is not implemented in this version of ictus')
-    if (deck%n_walls > 0) call input_error(deck%walls(1)%where, &
-        '*RIGID WALL: contact is not implemented in this version of ictus')
     if (model%nel == 0) call input_error(deck%path, &
         'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')
   end subroutine build_model

@@ -20,11 +20,15 @@ module ictus_app_driver
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
+      contact_ratio
+  use ictus_contact_contact, only: contact_t, contact_failures
+  use ictus_app_build_contact, only: build_contact
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
-      results_close, history_record_t
+      results_close, history_record_t, results_contact
   use ictus_app_build_model, only: build_model, element_where
   implicit none
   private
@@ -51,8 +55,11 @@ contains
     type(domain_t) :: dom
     type(operators_t) :: ops
     type(mass_op_t) :: mop
-    real(dp) :: omega, dt_crit, dt
+    type(contact_t) :: contact
+    type(contact_step_t) :: cs
+    real(dp) :: omega, dt_crit, dt, r1, dt_pen
     integer :: iters, ierr
+    character(len=256) :: where
     call read_deck(opt%deck_path, deck)
     if (error_count() > 0) call input_failure()
     call build_model(deck, model)
@@ -62,13 +69,26 @@ contains
         str(env_size())//' parts')
     call check_operators(model, dom, ops)
     if (error_count() > 0) call input_failure()
+    call build_contact(deck, model, contact)
+    if (error_count() > 0) call input_failure()
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
         model%fixed(:, dom%halo%gid))
-    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-6_dp, 2000)
+    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
     call log_info('stability: omega_max = '//str(omega)//' (power iteration, '//str(iters)// &
         ' iterations), critical time step 2/omega_max = '//str(dt_crit))
+    ! the penalty limit of the predictor-corrector scheme (physics.md §4.4-4.5): the contact
+    ! ratio r = dt^2 eps (l_s/m_s + l_m/m_m) grows like dt^2; automatic steps keep r <= 1/2
+    dt_pen = huge(1.0_dp)
+    if (contact%npairs > 0) then
+      call contact_step_init(cs, contact, model%x0, dom)
+      call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
+          1.0_dp, r1, where)
+      if (r1 > 0.0_dp) dt_pen = sqrt(0.5_dp/r1)
+      call log_info('contact: penalty step limit (r <= 1/2) = '//str(dt_pen)//' at '// &
+          trim(where))
+    end if
     if (model%dt > 0.0_dp) then
       dt = model%dt
       if (dt > dt_crit) then
@@ -78,8 +98,22 @@ contains
         call input_failure()
       end if
     else
-      dt = model%safety*dt_crit
-      call log_info('automatic time step: '//str(model%safety)//' * 2/omega_max = '//str(dt))
+      dt = model%safety*min(dt_crit, dt_pen)
+      if (dt_pen < dt_crit) then
+        call log_info('automatic time step: '//str(model%safety)//' * penalty limit = '// &
+            str(dt))
+      else
+        call log_info('automatic time step: '//str(model%safety)//' * 2/omega_max = '//str(dt))
+      end if
+    end if
+    if (contact%npairs > 0) then
+      call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
+          dt, r1, where)
+      call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
+          ' at the start ('//trim(where)//')')
+      if (r1 > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r1, 4)// &
+          ' exceeds 1/2 at '//trim(where)//' (physics.md §4.4: the predictor-corrector '// &
+          'penalty needs r <= 1; refine the contact mesh, lower the penalty or the time step)')
     end if
     call log_summary(model, dom, ops, dt)
     if (opt%check_only) then
@@ -88,7 +122,7 @@ contains
     end if
     call log_info('processed deck:')
     call log_info(deck_echo(deck, .false.))
-    call time_loop(opt, deck, model, dom, ops, mop, dt, omega)
+    call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
 
   !> Ends a run whose input is wrong: exit status 1, nothing written.
@@ -216,13 +250,15 @@ contains
   end function default_out
 
   !> The time loop with history and field output, progress lines and blow-up detection.
-  subroutine time_loop(opt, deck, model, dom, ops, mop, dt, omega)
+  subroutine time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
     type(run_options_t), intent(in) :: opt
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
     type(domain_t), intent(inout) :: dom
     type(operators_t), intent(in) :: ops
     type(mass_op_t), intent(inout) :: mop
+    type(contact_t), intent(inout) :: contact
+    type(contact_step_t), intent(inout) :: cs
     real(dp), intent(in) :: dt, omega
     type(results_t) :: res
     type(state_t) :: s
@@ -232,7 +268,12 @@ contains
     real(dp) :: e0, e_total, t0, t_last_print, elapsed
     integer :: nsteps, n, field_every, print_every
     integer, allocatable :: gid(:)
+    logical, allocatable :: was_active(:)
     logical :: record, field
+    integer :: k
+    real(dp) :: r
+    character(len=256) :: where
+    integer(8) :: failures
     out = default_out(opt%deck_path)
     if (allocated(opt%out_path)) out = opt%out_path
     nsteps = steps_for(model%t_end, dt)
@@ -242,8 +283,10 @@ contains
     gid = dom%halo%gid(1:dom%nowned)
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-    call results_open(res, out, model, deck_echo(deck, .true.), env_size(), ops%m_diag, gid, &
-        omega, dt)
+    call results_open(res, out, model, contact, deck_echo(deck, .true.), env_size(), &
+        ops%m_diag, gid, omega, dt)
+    allocate(was_active(contact%npairs), source=.false.)
+    failures = 0
     call log_info('results: '//out)
     call state_init(s, ops%k, mop, dom, model%u_fixed(:, dom%halo%gid), &
         model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
@@ -260,13 +303,30 @@ contains
           'did not converge')
       if (record) then
         rec = history_record_t(s%t, dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
+        call results_contact(res, contact)
         call results_history(res, rec)
         e_total = s%e_kin + s%e_strain + s%e_contact - s%w_ext
         if (n == 0) e0 = e_total
         call check_blowup(res, s, model, dom, e0)
       end if
-      if (field) call results_field(res, n, s%t, s%u, s%v_mid, gid)
+      if (field) call results_field(res, n, s%t, s%u, s%v_mid, gid, contact)
       if (n == nsteps) exit
+      if (contact%npairs > 0) then
+        call contact_correct(cs, contact, s, mop, dom, model%x0)
+        if (cs%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass '// &
+            'solve of the contact correction did not converge')
+        failures = failures + contact_failures(contact)
+        do k = 1, contact%npairs
+          if (contact%pairs(k)%active_points > 0 .and. .not. was_active(k)) then
+            was_active(k) = .true.
+            call contact_ratio(cs, contact, model%x0, s%u, ops%m_pos, dt, r, where)
+            call log_info('contact '//trim(contact%pairs(k)%name)//' becomes active at t = '// &
+                str(s%t + dt)//'; stability ratio r = '//str(r, 4)//' ('//trim(where)//')')
+            if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
+                ' exceeds 1/2 at '//trim(where))
+          end if
+        end do
+      end if
       call step_finish(s, dom)
       elapsed = wall_time() - t0
       if (mod(n + 1, print_every) == 0 .or. wall_time() - t_last_print > 10.0_dp) then
@@ -275,9 +335,19 @@ contains
             '  dt = '//str(dt, 4)//'  E_total = '//str(s%e_kin + s%e_strain + s%e_contact &
             - s%w_ext, 8)//'  elapsed '//str(elapsed, 3)//' s  ETA '// &
             str(elapsed*real(nsteps - n - 1, dp)/real(n + 1, dp), 3)//' s')
+        do k = 1, contact%npairs
+          associate (p => contact%pairs(k))
+            call log_info('  contact '//trim(p%name)//': force '//str(p%force_first(1), 5)// &
+                ', '//str(p%force_first(2), 5)//'  max pressure '//str(p%max_pressure, 5)// &
+                '  max penetration '//str(p%max_penetration, 4)//'  active points '// &
+                str(p%active_points))
+          end associate
+        end do
       end if
     end do
     call report_energy(s, e0)
+    if (failures > 0) call warning('contact', str(int(failures))//' closest-point '// &
+        'projections failed during the run (those points were treated as open)')
     if (mop%consistent) call log_info('consistent mass: '//str(mop%n_solves)// &
         ' solves, mean '//str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
         ' CG iterations per solve')

@@ -6,7 +6,7 @@
 !! `contact_define_pair` / `contact_define_wall` for each c%pairs(k), then `contact_setup(c)`.
 !! `ictus_app_build_contact` does this from a deck.
 module ictus_contact_contact
-  use ictus_core_kinds, only: dp, i8, str_len
+  use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower, str
   use ictus_contact_surface, only: contact_surface_t, segment_shape
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
@@ -107,17 +107,21 @@ contains
   !> Contact forces of all pairs and walls on the current (predicted) coordinates.
   !! Does not allocate. Updates each pair's results and point output.
   !! @param c contact; @param nn number of nodes; @param x coordinates x0 + u_pre (2, nn);
-  !! @param fc contact forces (2, nn), zeroed then accumulated;
+  !! @param fc contact forces (2, nn): zeroed on the surface nodes, then accumulated (other
+  !! entries are left untouched; zero the array once before the first call);
   !! @param energy penalty energy: sum over points of 1/2 eps gp^2 w J (TWO HALF PASS: the
   !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s)
   subroutine contact_forces(c, nn, x, fc, energy)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
     real(dp), intent(in) :: x(2, nn)
-    real(dp), intent(out) :: fc(2, nn)
+    real(dp), intent(inout) :: fc(2, nn)
     real(dp), intent(out) :: energy
     integer :: k
-    fc = 0.0_dp
+    ! only surface nodes receive contact forces: zero just those (cost of the surface)
+    do k = 1, c%nsurf
+      fc(:, c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = 0.0_dp
+    end do
     energy = 0.0_dp
     c%failures = 0
     do k = 1, c%npairs

@@ -9,6 +9,7 @@ module ictus_io_results
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, etype_name
+  use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
@@ -17,7 +18,7 @@ module ictus_io_results
   implicit none
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
-      history_record_t
+      history_record_t, results_contact
 
   !> Records kept in memory before they are appended to the file.
   integer, parameter :: buffer_size = 512
@@ -40,6 +41,13 @@ module ictus_io_results
     type(history_record_t) :: buf(buffer_size)
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
+    !> Contact pairs (lower-case names) and their buffered records: force_first (2),
+    !! force_second (2), max_pressure, max_penetration, active_points, per record.
+    integer :: npairs = 0
+    character(len=64), allocatable :: pair_name(:)
+    real(dp), allocatable :: cbuf(:,:,:)
+    real(dp) :: col2(2, buffer_size)
+    integer :: icol(buffer_size)
     !> Field snapshots written so far: step numbers and times.
     integer :: n_fields = 0
     integer, allocatable :: field_step(:)
@@ -54,10 +62,12 @@ contains
   !> Creates the file and writes the root attributes and the model.
   !! `omega_max` is the estimated largest natural frequency, `dt` the time step used.
   !! `m_diag` holds the nodal masses of this rank's owned nodes `gid`.
-  subroutine results_open(r, path, model, deck_text, ranks, m_diag, gid, omega_max, dt)
+  subroutine results_open(r, path, model, contact, deck_text, ranks, m_diag, gid, omega_max, &
+      dt)
     type(results_t), intent(out) :: r
     character(len=*), intent(in) :: path, deck_text
     type(model_t), intent(in) :: model
+    type(contact_t), intent(in) :: contact
     integer, intent(in) :: ranks
     real(dp), intent(in) :: m_diag(:)
     integer, intent(in) :: gid(:)
@@ -102,8 +112,51 @@ contains
     call h5u_close_group(g)
     call h5u_group(r%file, 'fields', g)
     call h5u_close_group(g)
+    call open_contact(r, contact)
     call h5u_flush(r%file)
   end subroutine results_open
+
+  !> /history/contact/<pair>/ datasets and the /contact group.
+  subroutine open_contact(r, contact)
+    type(results_t), intent(inout) :: r
+    type(contact_t), intent(in) :: contact
+    integer(hid_t) :: g
+    integer :: k
+    r%npairs = contact%npairs
+    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    if (r%npairs == 0) return
+    call h5u_group(r%file, 'history/contact', g)
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'contact', g)
+    call h5u_close_group(g)
+    do k = 1, r%npairs
+      r%pair_name(k) = trim(lower(contact%pairs(k)%name))
+      call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
+      call h5u_create_ext(g, 'force_first', 2, buffer_size)
+      call h5u_create_ext(g, 'force_second', 2, buffer_size)
+      call h5u_create_ext(g, 'max_pressure', 0, buffer_size)
+      call h5u_create_ext(g, 'max_penetration', 0, buffer_size)
+      call h5u_create_ext(g, 'active_points', 0, buffer_size, is_integer=.true.)
+      call h5u_close_group(g)
+      call h5u_group(r%file, 'contact/'//trim(r%pair_name(k)), g)
+      call h5u_close_group(g)
+    end do
+  end subroutine open_contact
+
+  !> Stores the contact quantities of every pair for the history record being added next
+  !! (call it right before results_history).
+  subroutine results_contact(r, contact)
+    type(results_t), intent(inout) :: r
+    type(contact_t), intent(in) :: contact
+    integer :: k, n
+    n = r%nbuf + 1
+    do k = 1, r%npairs
+      associate (p => contact%pairs(k))
+        r%cbuf(:, k, n) = [p%force_first, p%force_second, p%max_pressure, p%max_penetration, &
+            real(p%active_points, dp)]
+      end associate
+    end do
+  end subroutine results_contact
 
   function ictus_version_string() result(v)
     use ictus_core_build_info, only: ictus_version
@@ -184,7 +237,7 @@ contains
   subroutine flush_history(r)
     type(results_t), intent(inout) :: r
     integer(hid_t) :: g
-    integer :: n
+    integer :: n, k
     n = r%nbuf
     if (n == 0) return
     call h5u_group(r%file, 'history', g)
@@ -206,19 +259,35 @@ contains
         - r%buf(1:n)%external_work
     call h5u_append(g, 'total', r%col(1:n))
     call h5u_close_group(g)
+    do k = 1, r%npairs
+      call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
+      r%col2(:, 1:n) = r%cbuf(1:2, k, 1:n)
+      call h5u_append(g, 'force_first', r%col2(:, 1:n))
+      r%col2(:, 1:n) = r%cbuf(3:4, k, 1:n)
+      call h5u_append(g, 'force_second', r%col2(:, 1:n))
+      r%col(1:n) = r%cbuf(5, k, 1:n)
+      call h5u_append(g, 'max_pressure', r%col(1:n))
+      r%col(1:n) = r%cbuf(6, k, 1:n)
+      call h5u_append(g, 'max_penetration', r%col(1:n))
+      r%icol(1:n) = nint(r%cbuf(7, k, 1:n))
+      call h5u_append(g, 'active_points', r%icol(1:n))
+      call h5u_close_group(g)
+    end do
     r%nbuf = 0
     call h5u_flush(r%file)
   end subroutine flush_history
 
   !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar. u and v hold
   !! the values of this rank's owned nodes `gid`.
-  subroutine results_field(r, step, time, u, v, gid)
+  subroutine results_field(r, step, time, u, v, gid, contact)
     type(results_t), intent(inout) :: r
     integer, intent(in) :: step
     real(dp), intent(in) :: time
     real(dp), intent(in) :: u(:,:), v(:,:)
     integer, intent(in) :: gid(:)
+    type(contact_t), intent(in) :: contact
     integer(hid_t) :: g
+    integer :: k
     character(len=8) :: name
     write(name, '(i8.8)') step
     call h5u_group(r%file, 'fields/'//name, g)
@@ -227,6 +296,17 @@ contains
     call h5u_write_rows(g, 'displacement', u(:, 1:size(gid)), gid, r%nn)
     call h5u_write_rows(g, 'velocity', v(:, 1:size(gid)), gid, r%nn)
     call h5u_close_group(g)
+    ! contact points of each pair's first surface (the same on every rank)
+    do k = 1, r%npairs
+      associate (p => contact%pairs(k))
+        call h5u_group(r%file, 'contact/'//trim(r%pair_name(k))//'/'//name, g)
+        call h5u_attr_real(g, 'time', time)
+        call h5u_attr_int(g, 'step', step)
+        call h5u_write(g, 'x', p%x(:, 1:p%npoints))
+        call h5u_write(g, 'pressure', p%pressure(1:p%npoints))
+        call h5u_close_group(g)
+      end associate
+    end do
     r%n_fields = r%n_fields + 1
     r%field_step = [r%field_step, step]
     r%field_time = [r%field_time, time]

@@ -18,7 +18,7 @@ module ictus_parallel_env
 
   !> Sum over all ranks, in place.
   interface allreduce_sum
-    module procedure sum_real, sum_real_array, sum_int, sum_i8
+    module procedure sum_real, sum_real_array, sum_real_array2, sum_int, sum_i8
   end interface allreduce_sum
   !> Maximum over all ranks, in place.
   interface allreduce_max
@@ -114,6 +114,12 @@ contains
     if (nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, x, size(x), MPI_DOUBLE_PRECISION, &
         MPI_SUM, comm)
   end subroutine sum_real_array
+
+  subroutine sum_real_array2(x)
+    real(dp), intent(inout), contiguous :: x(:,:)
+    if (nranks > 1) call MPI_Allreduce(MPI_IN_PLACE, x, size(x), MPI_DOUBLE_PRECISION, &
+        MPI_SUM, comm)
+  end subroutine sum_real_array2
 
   subroutine sum_int(x)
     integer, intent(inout) :: x

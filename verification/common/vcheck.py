@@ -23,14 +23,20 @@ def arguments():
     ap.add_argument("--ictus", required=True, help="the ictus executable")
     ap.add_argument("--work", required=True, help="scratch directory for decks and results")
     ap.add_argument("--mpiexec", default="", help="launcher prefix, e.g. 'mpirun -np 2'")
+    ap.add_argument("--mpirun", default="mpirun",
+                    help="MPI launcher for cases that choose the number of ranks themselves")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     return a
 
 
-def run_ictus(args, deck, out=None, expect_status=0, extra=()):
-    """Runs ictus on `deck`, returns (status, stdout+stderr). Fails the case on a wrong status."""
-    cmd = (args.mpiexec.split() if args.mpiexec else []) + [args.ictus, deck] + list(extra)
+def run_ictus(args, deck, out=None, expect_status=0, extra=(), np=None):
+    """Runs ictus on `deck` (on `np` MPI ranks when given), returns (status, output).
+    Fails the case on a wrong exit status."""
+    launcher = args.mpiexec.split() if args.mpiexec else []
+    if np is not None:
+        launcher = args.mpirun.split() + ["--oversubscribe", "-np", str(np)]
+    cmd = launcher + [args.ictus, deck] + list(extra)
     if out:
         cmd += ["-o", out]
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

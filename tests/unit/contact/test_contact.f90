@@ -27,6 +27,7 @@ program test_contact
   call q8_node_to_segment(t)
   call q8_rigid_wall(t)
   call q8_stability(t)
+  call hertz_mirror(t)
   call t%finish()
 
 contains
@@ -115,6 +116,7 @@ contains
     character(len=*), intent(in) :: label
     real(dp) :: fc(2, nn), energy, integral, f1(2)
     integer :: q, k
+    fc = 0.0_dp
     call contact_forces(c, nn, x(:, 1:nn), fc, energy)
     associate (p => c%pairs(1), s1 => c%surfaces(1), s2 => c%surfaces(2))
       call t%close(p%force_first(2), -eps*gap*len, 1.0e-12_dp, label//': resultant first')
@@ -203,6 +205,7 @@ contains
     call q8_surface(c, 2, 'LOW', e1, 3, x(:, 1:nn))
     call contact_define_pair(c, 1, 'nts', PAIR_NODE_TO_SEGMENT, eps, 1, 2)
     call contact_setup(c)
+    fc = 0.0_dp
     call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
     associate (p => c%pairs(1), s1 => c%surfaces(1))
       call t%close(p%force_first(2), eps*gap*len, 1.0e-12_dp, 'NTS: resultant on slave')
@@ -231,6 +234,7 @@ contains
     call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
     call contact_define_wall(c, 1, 'Floor', [3.0_dp, 0.0_dp], [0.0_dp, 2.0_dp], eps, 1)
     call contact_setup(c)
+    fc = 0.0_dp
     call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
     associate (p => c%pairs(1), s1 => c%surfaces(1))
       call t%close(p%force_first(2), eps*gap*len, 1.0e-12_dp, 'wall: resultant on surface')
@@ -244,6 +248,7 @@ contains
     end associate
     ! moved clear of the wall: no force
     x(2, 1:nn) = x(2, 1:nn) + 2.0_dp*gap
+    fc = 0.0_dp
     call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
     call t%close_abs(maxval(abs(fc(:, 1:nn))), 0.0_dp, 0.0_dp, 'wall: open, no force')
     call t%equal_int(c%pairs(1)%active_points, 0, 'wall: open, no active point')
@@ -292,4 +297,65 @@ contains
     call t%true(index(where, 'pair: node') == 1 .and. index(where, 'against node') > 0, &
         'two bodies: where names both nodes')
   end subroutine q8_stability
+
+  !> The two half-discs of the benchmark (physics.md 7.4, R = 4, refined 8 x 8), mirror
+  !! images about y = 0 (the lower one has det J > 0, the upper det J < 0), pushed into each
+  !! other by 2 delta; contact surfaces: the XI0 arcs, which end at the contact point (0, 0).
+  !! Mirrored meshes: the y-forces are equal and opposite to round-off, the x-forces equal.
+  subroutine hertz_mirror(t)
+    type(checker_t), intent(inout) :: t
+    real(dp), parameter :: r = 4.0_dp, delta = 0.01_dp
+    type(contact_t) :: c
+    type(patch_t) :: up, low
+    real(dp) :: cp(3, 9), x(2, 200), fc(2, 200), energy, cw, tn
+    integer :: nn, nseg, ierr, k
+    integer, allocatable :: nens(:), conn(:,:), elem(:), kinds(:)
+    real(dp), allocatable :: wgt(:,:), ext(:,:,:)
+    cw = cos(acos(-1.0_dp)/8.0_dp)
+    tn = tan(acos(-1.0_dp)/8.0_dp)
+    cp = reshape([0.0_dp, -r, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, r, 1.0_dp, &
+        r*tn, -r, cw, r/2, 0.0_dp, 1.0_dp, r*tn, r, cw, &
+        r/sqrt(2.0_dp), -r/sqrt(2.0_dp), 1.0_dp, r*sqrt(2.0_dp), 0.0_dp, sqrt(0.5_dp), &
+        r/sqrt(2.0_dp), r/sqrt(2.0_dp), 1.0_dp], [3, 9])
+    cp(2, :) = cp(2, :) + r - delta
+    call up%init('UP', [2, 2], [3, 3], [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], &
+        [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], cp)
+    cp(2, :) = -cp(2, :)
+    call low%init('LOW', [2, 2], [3, 3], [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], &
+        [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], cp)
+    call patch_refine(up, [8, 8])
+    call patch_refine(low, [8, 8])
+    call contact_init(c, 2, 1)
+    nn = 0
+    do k = 1, 2
+      if (k == 1) then
+        x(:, nn+1:nn+up%n(1)*up%n(2)) = up%cp(1:2, :)
+        call patch_side_segments(up, nn, 1, nseg, nens, conn, wgt, ext, elem, ierr)
+        nn = nn + up%n(1)*up%n(2)
+      else
+        x(:, nn+1:nn+low%n(1)*low%n(2)) = low%cp(1:2, :)
+        call patch_side_segments(low, nn, 1, nseg, nens, conn, wgt, ext, elem, ierr)
+        nn = nn + low%n(1)*low%n(2)
+      end if
+      call t%equal_int(ierr, 0, 'hertz: side oriented')
+      if (allocated(kinds)) deallocate(kinds)
+      allocate(kinds(nseg))
+      kinds = SEG_BEZIER
+      call surface_init(c%surfaces(k), 'ARC', kinds, nens, conn, x(:, 1:nn), wgt=wgt, &
+          ext=ext)
+    end do
+    call contact_define_pair(c, 1, 'hertz', PAIR_TWO_HALF_PASS, eps, 1, 2)
+    call contact_setup(c)
+    fc = 0.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    associate (p => c%pairs(1))
+      call t%true(p%force_first(2) > 0.0_dp, 'hertz: upper body pushed up')
+      call t%close(p%force_first(2), -p%force_second(2), 1.0e-10_dp, 'hertz: P1 = P2')
+      call t%close(p%force_first(1), p%force_second(1), 1.0e-10_dp, 'hertz: mirrored x')
+      ! the Gauss points sit near, not at, the first contact point (0, 0) where gp = 2 delta
+      call t%true(p%max_penetration < 2.0_dp*delta .and. p%max_penetration > 1.9_dp*delta, &
+          'hertz: max gp just below 2 delta')
+      call t%equal_int(p%failures, 0, 'hertz: no failed projections')
+    end associate
+  end subroutine hertz_mirror
 end program test_contact
