@@ -10,6 +10,7 @@ module ictus_app_driver
   use ictus_core_logger, only: log_info, log_verbose, log_is, LOG_VERBOSE_LEVEL
   use ictus_core_strings, only: str, join_ids
   use ictus_core_timer, only: wall_time
+  use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: env_size, allreduce_max, allreduce_sum, allgather_int, &
       allgatherv_real
   use ictus_elements_types, only: etype_name, ETYPE_Q8
@@ -21,7 +22,7 @@ module ictus_app_driver
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
-      contact_ratio
+      contact_ratio, contact_bipenalty_init
   use ictus_contact_contact, only: contact_t, contact_failures
   use ictus_app_build_contact, only: build_contact
   use ictus_io_deck_types, only: deck_t
@@ -83,6 +84,10 @@ contains
     dt_pen = huge(1.0_dp)
     if (contact%npairs > 0) then
       call contact_step_init(cs, contact, model%x0, dom)
+      ! bipenalty pairs: eps_m from omega_max of the model without contact and the bulk step
+      call contact_bipenalty_init(cs, contact, mop, omega, merge(model%dt, &
+          model%safety*dt_crit, model%dt > 0.0_dp))
+      if (error_count() > 0) call input_failure()
       call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
           1.0_dp, r1, where)
       if (r1 > 0.0_dp) dt_pen = sqrt(0.5_dp/r1)
@@ -283,7 +288,7 @@ contains
     gid = dom%halo%gid(1:dom%nowned)
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-    call results_open(res, out, model, contact, deck_echo(deck, .true.), env_size(), &
+    call results_open(res, out, model, dom, contact, deck_echo(deck, .true.), env_size(), &
         ops%m_diag, gid, omega, dt)
     allocate(was_active(contact%npairs), source=.false.)
     failures = 0
@@ -309,7 +314,11 @@ contains
         if (n == 0) e0 = e_total
         call check_blowup(res, s, model, dom, e0)
       end if
-      if (field) call results_field(res, n, s%t, s%u, s%v_mid, gid, contact)
+      if (field) then
+        ! the viewing samples of NURBS elements read ghost velocities too
+        if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
+        call results_field(res, dom, n, s%t, s%u, s%v_mid, gid, contact)
+      end if
       if (n == nsteps) exit
       if (contact%npairs > 0) then
         call contact_correct(cs, contact, s, mop, dom, model%x0)

@@ -11,6 +11,8 @@ module ictus_io_results
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, etype_name
   use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t
+  use ictus_solver_domain, only: domain_t
+  use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
       h5u_create_ext, h5u_append, h5u_write_rows
@@ -55,6 +57,12 @@ module ictus_io_results
     !> Element blocks for the XDMF sidecar.
     type(xdmf_grid_t), allocatable :: grids(:)
     integer :: nn = 0
+    !> Viewing samples of the NURBS elements: the samples this rank evaluates (those of
+    !! elements whose first control point it owns), their rows and values (2, nmine).
+    type(iga_viz_t) :: viz
+    integer :: nviz_mine = 0
+    integer, allocatable :: viz_mine(:)
+    real(dp), allocatable :: viz_u(:,:), viz_v(:,:)
   end type results_t
 
 contains
@@ -62,11 +70,12 @@ contains
   !> Creates the file and writes the root attributes and the model.
   !! `omega_max` is the estimated largest natural frequency, `dt` the time step used.
   !! `m_diag` holds the nodal masses of this rank's owned nodes `gid`.
-  subroutine results_open(r, path, model, contact, deck_text, ranks, m_diag, gid, omega_max, &
-      dt)
+  subroutine results_open(r, path, model, dom, contact, deck_text, ranks, m_diag, gid, &
+      omega_max, dt)
     type(results_t), intent(out) :: r
     character(len=*), intent(in) :: path, deck_text
     type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
     type(contact_t), intent(in) :: contact
     integer, intent(in) :: ranks
     real(dp), intent(in) :: m_diag(:)
@@ -99,6 +108,8 @@ contains
     call h5u_attr_real(r%file, 'omega_max', omega_max)
     call h5u_attr_real(r%file, 'dt', dt)
     call write_model(r, model, m_diag, gid)
+    call write_partition(r, dom)
+    call write_viz(r, model, dom)
     call h5u_group(r%file, 'history', g)
     call h5u_create_ext(g, 'time', 0, buffer_size)
     call h5u_create_ext(g, 'dt', 0, buffer_size)
@@ -202,7 +213,7 @@ contains
       call h5u_close_group(gp)
       if (t /= ETYPE_IGA) then
         ng = ng + 1
-        r%grids = [r%grids, xdmf_grid_t(tname, t, ne, nen)]
+        r%grids = [r%grids, xdmf_grid_t(tname, t, ne, nen, model%nn)]
       end if
       deallocate(conn, ids)
     end do
@@ -224,6 +235,57 @@ contains
     end if
     call h5u_close_group(g)
   end subroutine write_model
+
+  !> /model/partition: the rank that owns each node (the only dataset that depends on the
+  !! number of ranks), and /model/element_partition: the METIS part of each element.
+  subroutine write_partition(r, dom)
+    type(results_t), intent(inout) :: r
+    type(domain_t), intent(in) :: dom
+    integer(hid_t) :: g
+    call h5u_group(r%file, 'model', g)
+    call h5u_write(g, 'partition', dom%owner)
+    call h5u_write(g, 'element_partition', dom%part)
+    call h5u_close_group(g)
+  end subroutine write_partition
+
+  !> /viz/iga: sample points and linear sub-cells of the NURBS elements, for viewing.
+  subroutine write_viz(r, model, dom)
+    type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer(hid_t) :: g
+    integer :: k
+    if (model%npatch == 0) return
+    call iga_viz_init(model, r%viz)
+    r%viz_mine = pack([(k, k = 1, r%viz%ns)], &
+        dom%owner(model%conn(1, r%viz%elem)) == dom%rank)
+    r%nviz_mine = size(r%viz_mine)
+    allocate(r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    call h5u_group(r%file, 'viz', g)
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'viz/iga', g)
+    call h5u_write(g, 'points', r%viz%points)
+    call h5u_write(g, 'cells', r%viz%cells)
+    call h5u_close_group(g)
+    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns)]
+  end subroutine write_viz
+
+  !> Values at this rank's viewing samples of a local field x (2, nlocal).
+  subroutine viz_eval_local(r, dom, x, xs)
+    type(results_t), intent(in) :: r
+    type(domain_t), intent(in) :: dom
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(out) :: xs(:,:)
+    integer :: k, s, a
+    do k = 1, r%nviz_mine
+      s = r%viz_mine(k)
+      xs(:, k) = 0.0_dp
+      do a = 1, r%viz%nen_max
+        if (r%viz%idx(a, s) <= 0) cycle
+        xs(:, k) = xs(:, k) + r%viz%val(a, s)*x(:, dom%g2l(r%viz%idx(a, s)))
+      end do
+    end do
+  end subroutine viz_eval_local
 
   !> Adds one history record (appended to the file in blocks).
   subroutine results_history(r, rec)
@@ -279,8 +341,9 @@ contains
 
   !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar. u and v hold
   !! the values of this rank's owned nodes `gid`.
-  subroutine results_field(r, step, time, u, v, gid, contact)
+  subroutine results_field(r, dom, step, time, u, v, gid, contact)
     type(results_t), intent(inout) :: r
+    type(domain_t), intent(in) :: dom
     integer, intent(in) :: step
     real(dp), intent(in) :: time
     real(dp), intent(in) :: u(:,:), v(:,:)
@@ -295,6 +358,12 @@ contains
     call h5u_attr_int(g, 'step', step)
     call h5u_write_rows(g, 'displacement', u(:, 1:size(gid)), gid, r%nn)
     call h5u_write_rows(g, 'velocity', v(:, 1:size(gid)), gid, r%nn)
+    if (r%viz%ns > 0) then
+      call viz_eval_local(r, dom, u, r%viz_u)
+      call viz_eval_local(r, dom, v, r%viz_v)
+      call h5u_write_rows(g, 'viz_displacement', r%viz_u, r%viz_mine, r%viz%ns)
+      call h5u_write_rows(g, 'viz_velocity', r%viz_v, r%viz_mine, r%viz%ns)
+    end if
     call h5u_close_group(g)
     ! contact points of each pair's first surface (the same on every rank)
     do k = 1, r%npairs
@@ -311,7 +380,7 @@ contains
     r%field_step = [r%field_step, step]
     r%field_time = [r%field_time, time]
     call flush_history(r)
-    call xdmf_write(r%xdmf_path, r%path, r%nn, r%grids, r%field_step, r%field_time)
+    call xdmf_write(r%xdmf_path, r%path, r%grids, r%field_step, r%field_time)
   end subroutine results_field
 
   !> Writes the remaining history, the final `status` attribute, and closes the file.

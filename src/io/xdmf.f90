@@ -2,32 +2,35 @@
 !! It only points into the HDF5 file; it is rewritten (by rank 0) after every snapshot.
 module ictus_io_xdmf
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
   use ictus_parallel_env, only: env_is_root
   implicit none
   private
   public :: xdmf_write, xdmf_grid_t
 
-  !> One block of elements of one type (/model/elements/<name>/connectivity).
+  !> One block of cells: FE elements of one type (/model/elements/<name>/connectivity on
+  !! /model/coordinates, fields displacement/velocity), or the NURBS viewing sub-cells (name
+  !! 'iga': /viz/iga/cells on /viz/iga/points, fields viz_displacement/viz_velocity).
   type :: xdmf_grid_t
     character(len=16) :: name = ''
     integer :: etype = 0
     integer :: nel = 0
     integer :: nen = 0
+    !> Number of points the cells refer to.
+    integer :: npoints = 0
   end type xdmf_grid_t
 
 contains
 
   !> Writes `path` describing the snapshots `steps`/`times` stored in the HDF5 file `h5path`.
-  subroutine xdmf_write(path, h5path, nn, grids, steps, times)
+  subroutine xdmf_write(path, h5path, grids, steps, times)
     character(len=*), intent(in) :: path, h5path
-    integer, intent(in) :: nn
     type(xdmf_grid_t), intent(in) :: grids(:)
     integer, intent(in) :: steps(:)
     real(dp), intent(in) :: times(:)
     integer :: u, i, j, ios
     character(len=8) :: sname
-    character(len=:), allocatable :: h5
+    character(len=:), allocatable :: h5, conn, geom, prefix
     if (.not. env_is_root()) return
     h5 = basename(h5path)
     open(newunit=u, file=path, status='replace', action='write', iostat=ios)
@@ -42,19 +45,27 @@ contains
           'CollectionType="Spatial">'
       write(u, '(a,es23.16,a)') '    <Time Value="', times(i), '"/>'
       do j = 1, size(grids)
+        if (grids(j)%etype == ETYPE_IGA) then
+          conn = ':/viz/iga/cells'
+          geom = ':/viz/iga/points'
+          prefix = 'viz_'
+        else
+          conn = ':/model/elements/'//trim(grids(j)%name)//'/connectivity'
+          geom = ':/model/coordinates'
+          prefix = ''
+        end if
         write(u, '(a)') '    <Grid Name="'//trim(grids(j)%name)//'" GridType="Uniform">'
         write(u, '(a,i0,a)') '     <Topology TopologyType="'//topology(grids(j)%etype)// &
             '" NumberOfElements="', grids(j)%nel, '">'
         write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Int" Dimensions="', &
-            grids(j)%nel, grids(j)%nen, '">'//h5//':/model/elements/'// &
-            trim(grids(j)%name)//'/connectivity</DataItem>'
+            grids(j)%nel, grids(j)%nen, '">'//h5//conn//'</DataItem>'
         write(u, '(a)') '     </Topology>'
         write(u, '(a)') '     <Geometry GeometryType="XY">'
-        write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', nn, &
-            ' 2">'//h5//':/model/coordinates</DataItem>'
+        write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', &
+            grids(j)%npoints, ' 2">'//h5//geom//'</DataItem>'
         write(u, '(a)') '     </Geometry>'
-        call attribute(u, 'displacement', h5, sname, nn)
-        call attribute(u, 'velocity', h5, sname, nn)
+        call attribute(u, 'displacement', prefix, h5, sname, grids(j)%npoints)
+        call attribute(u, 'velocity', prefix, h5, sname, grids(j)%npoints)
         write(u, '(a)') '    </Grid>'
       end do
       write(u, '(a)') '   </Grid>'
@@ -65,12 +76,12 @@ contains
     close(u)
   end subroutine xdmf_write
 
-  subroutine attribute(u, name, h5, sname, nn)
+  subroutine attribute(u, name, prefix, h5, sname, nn)
     integer, intent(in) :: u, nn
-    character(len=*), intent(in) :: name, h5, sname
+    character(len=*), intent(in) :: name, prefix, h5, sname
     write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Vector" Center="Node">'
     write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', nn, &
-        ' 2">'//h5//':/fields/'//sname//'/'//name//'</DataItem>'
+        ' 2">'//h5//':/fields/'//sname//'/'//prefix//name//'</DataItem>'
     write(u, '(a)') '     </Attribute>'
   end subroutine attribute
 
@@ -79,7 +90,7 @@ contains
     integer, intent(in) :: etype
     character(len=:), allocatable :: name
     select case (etype)
-    case (ETYPE_Q4)
+    case (ETYPE_Q4, ETYPE_IGA)
       name = 'Quadrilateral'
     case (ETYPE_Q8)
       name = 'Quadrilateral_8'
