@@ -61,8 +61,7 @@ contains
       model%safety = deck%step%safety
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
-      if (deck%step%restart_every > 0) call input_error(deck%step%where, &
-          '*RESTART: checkpoints are not implemented in this version of ictus')
+      model%restart_every = deck%step%restart_every
     end if
     if (model%nel == 0) call input_error(deck%path, &
         'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')

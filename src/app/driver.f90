@@ -7,11 +7,11 @@ module ictus_app_driver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
-  use ictus_core_logger, only: log_info, log_verbose, log_is, LOG_VERBOSE_LEVEL
+  use ictus_core_logger, only: log_info, log_verbose
   use ictus_core_strings, only: str, join_ids
   use ictus_core_timer, only: wall_time
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_parallel_env, only: env_size, allreduce_max, allreduce_sum, allgather_int, &
+  use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max, allgather_int, &
       allgatherv_real
   use ictus_elements_types, only: etype_name, ETYPE_Q8
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
@@ -29,7 +29,9 @@ module ictus_app_driver
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
-      results_close, history_record_t, results_contact
+      results_close, history_record_t, results_contact, results_reopen, results_flush, &
+      results_records
+  use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_build_model, only: build_model, element_where
   implicit none
   private
@@ -41,10 +43,14 @@ module ictus_app_driver
     character(len=:), allocatable :: out_path
     !> Read, build and check the model, print the summary and stop.
     logical :: check_only = .false.
+    !> Continue from this checkpoint.
+    character(len=:), allocatable :: restart_path
+    !> Stop with a checkpoint after this many seconds of the time loop (0: no limit).
+    real(dp) :: wall_time = 0.0_dp
   end type run_options_t
 
-  !> Exit status of a run-time failure.
-  integer, parameter :: EXIT_RUNTIME = 2
+  !> Exit status of a run-time failure, and of a run stopped at its wall-time limit.
+  integer, parameter :: EXIT_RUNTIME = 2, EXIT_WALL_TIME = 3
 
 contains
 
@@ -84,9 +90,10 @@ contains
     dt_pen = huge(1.0_dp)
     if (contact%npairs > 0) then
       call contact_step_init(cs, contact, model%x0, dom)
-      ! bipenalty pairs: eps_m from omega_max of the model without contact and the bulk step
-      call contact_bipenalty_init(cs, contact, mop, omega, merge(model%dt, &
-          model%safety*dt_crit, model%dt > 0.0_dp))
+      ! bipenalty pairs: eps_m from omega_max of the model without contact and the step (the
+      ! given one, or for automatic steps 2/omega_max, so that the penalty limit never binds)
+      call contact_bipenalty_init(cs, contact, mop, omega, merge(model%dt, dt_crit, &
+          model%dt > 0.0_dp))
       if (error_count() > 0) call input_failure()
       call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
           1.0_dp, r1, where)
@@ -117,8 +124,8 @@ contains
       call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
           ' at the start ('//trim(where)//')')
       if (r1 > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r1, 4)// &
-          ' exceeds 1/2 at '//trim(where)//' (physics.md §4.4: the predictor-corrector '// &
-          'penalty needs r <= 1; refine the contact mesh, lower the penalty or the time step)')
+          ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; physics.md §4.4 '// &
+          'puts the limit of the predictor-corrector penalty at r = 1)')
     end if
     call log_summary(model, dom, ops, dt)
     if (opt%check_only) then
@@ -234,6 +241,21 @@ contains
         str(nsteps)//' steps')
   end subroutine log_summary
 
+  !> Checkpoint path next to the results: results.h5 -> results.chk.h5.
+  function checkpoint_path(out) result(path)
+    character(len=*), intent(in) :: out
+    character(len=:), allocatable :: path
+    integer :: k
+    k = len(out) - 2
+    if (k > 1) then
+      if (out(k:) == '.h5') then
+        path = out(1:k - 1)//'.chk.h5'
+        return
+      end if
+    end if
+    path = out//'.chk.h5'
+  end function checkpoint_path
+
   !> Number of steps of size dt to reach t_end (the last one ends at or just after t_end).
   pure integer function steps_for(t_end, dt)
     real(dp), intent(in) :: t_end, dt
@@ -272,15 +294,20 @@ contains
     real(dp), allocatable :: alpha(:)
     real(dp) :: e0, e_total, t0, t_last_print, elapsed
     integer :: nsteps, n, field_every, print_every
-    integer, allocatable :: gid(:)
+    integer, allocatable :: gid(:), drop(:)
     logical, allocatable :: was_active(:)
-    logical :: record, field
+    logical :: record, field, ok, stop_now
+    type(checkpoint_t) :: ck
+    character(len=:), allocatable :: ckpt, deck_text, msg
+    integer :: n_start
     integer :: k
     real(dp) :: r
     character(len=256) :: where
     integer(8) :: failures
     out = default_out(opt%deck_path)
     if (allocated(opt%out_path)) out = opt%out_path
+    ckpt = checkpoint_path(out)
+    deck_text = deck_echo(deck, .true.)
     nsteps = steps_for(model%t_end, dt)
     field_every = model%field_every
     if (field_every <= 0) field_every = max(1, nsteps/20)
@@ -288,19 +315,44 @@ contains
     gid = dom%halo%gid(1:dom%nowned)
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-    call results_open(res, out, model, dom, contact, deck_echo(deck, .true.), env_size(), &
-        ops%m_diag, gid, omega, dt)
     allocate(was_active(contact%npairs), source=.false.)
     failures = 0
-    call log_info('results: '//out)
     call state_init(s, ops%k, mop, dom, model%u_fixed(:, dom%halo%gid), &
         model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
-    if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass solve '// &
-        'did not converge at the start')
     e0 = 0.0_dp
+    n_start = 0
+    if (allocated(opt%restart_path)) then
+      ! continue an interrupted run: state from the checkpoint, results file cut back to it
+      call checkpoint_read(opt%restart_path, deck_text, dom, s, cs, contact, ck, msg)
+      if (len(msg) > 0) then
+        call input_error(opt%restart_path, msg)
+        call input_failure()
+      end if
+      n_start = ck%next_step
+      e0 = ck%e0
+      was_active = ck%was_active
+      failures = ck%failures
+      drop = pack([(n, n = n_start, nsteps)], [(mod(n, field_every) == 0 .or. n == nsteps, &
+          n = n_start, nsteps)])
+      call results_reopen(res, out, model, dom, contact, ck%n_history, ck%field_steps, &
+          ck%field_times, drop, ok)
+      if (.not. ok) then
+        call input_error(out, 'cannot reopen the results file of the interrupted run '// &
+            '(give it with -o if it is not the default)')
+        call input_failure()
+      end if
+      call log_info('restart: continuing at step '//str(n_start)//', t = '//str(s%t)// &
+          ' from '//opt%restart_path)
+    else
+      call results_open(res, out, model, dom, contact, deck_text, env_size(), ops%m_diag, &
+          gid, omega, dt)
+      if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass '// &
+          'solve did not converge at the start')
+    end if
+    call log_info('results: '//out)
     t0 = wall_time()
     t_last_print = t0
-    do n = 0, nsteps
+    do n = n_start, nsteps
       record = mod(n, model%history_every) == 0 .or. n == nsteps
       field = mod(n, field_every) == 0 .or. n == nsteps
       call step_predict(s, ops%k, mop, dom, record .or. field)
@@ -338,6 +390,33 @@ contains
       end if
       call step_finish(s, dom)
       elapsed = wall_time() - t0
+      ! checkpoints: every restart_every steps, and when the wall-time limit is reached
+      stop_now = .false.
+      if (opt%wall_time > 0.0_dp .and. mod(n + 1, 10) == 0) then
+        stop_now = elapsed > opt%wall_time
+        call allreduce_or(stop_now)
+      end if
+      if (stop_now .or. (model%restart_every > 0 .and. mod(n + 1, max(1, &
+          model%restart_every)) == 0 .and. n + 1 < nsteps)) then
+        call results_flush(res)
+        ck%next_step = n + 1
+        ck%e0 = e0
+        ck%n_history = results_records(res)
+        ck%field_steps = res%field_step
+        ck%field_times = res%field_time
+        ck%was_active = was_active
+        ck%failures = int(failures)
+        call checkpoint_write(ckpt, deck_text, dom, s, cs, contact, ck)
+        call log_verbose('checkpoint at step '//str(n + 1)//': '//ckpt)
+      end if
+      if (stop_now) then
+        call results_close(res, 'stopped at the wall-time limit at step '//str(n + 1)// &
+            '; continue with: ictus '//opt%deck_path//' -o '//out//' --restart '//ckpt)
+        call log_info('wall-time limit of '//str(opt%wall_time)//' s reached at step '// &
+            str(n + 1)//'; checkpoint written: '//ckpt)
+        call log_info('continue with: ictus '//opt%deck_path//' -o '//out//' --restart '//ckpt)
+        call terminate(EXIT_WALL_TIME)
+      end if
       if (mod(n + 1, print_every) == 0 .or. wall_time() - t_last_print > 10.0_dp) then
         t_last_print = wall_time()
         call log_info('step '//str(n + 1)//'/'//str(nsteps)//'  t = '//str(s%t, 5)// &
@@ -360,7 +439,8 @@ contains
     if (mop%consistent) call log_info('consistent mass: '//str(mop%n_solves)// &
         ' solves, mean '//str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
         ' CG iterations per solve')
-    call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps)//' steps')
+    call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
+        ' steps')
     call results_close(res, 'completed')
   end subroutine time_loop
 

@@ -3,9 +3,11 @@
 !!   ictus deck.inp [-o results.h5] [--check] [--quiet | --verbose]
 !!   ictus --help | --version
 !!
-!! Exit status: 0 success, 1 bad input (command line or deck), 2 run-time failure.
+!! Exit status: 0 success, 1 bad input (command line or deck), 2 run-time failure, 3 stopped
+!! at the wall-time limit after writing a checkpoint.
 program ictus
   use, intrinsic :: iso_fortran_env, only: output_unit
+  use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error, terminate
   use ictus_core_logger, only: log_set_level, LOG_QUIET, LOG_VERBOSE_LEVEL
   use ictus_core_build_info, only: ictus_version, ictus_build_type
@@ -14,7 +16,7 @@ program ictus
   implicit none
   type(run_options_t) :: opt
   character(len=:), allocatable :: arg
-  integer :: i, n
+  integer :: i, n, ios
   logical :: exists
 
   call env_init()
@@ -37,6 +39,27 @@ program ictus
       call log_set_level(LOG_QUIET)
     case ('-v', '--verbose')
       call log_set_level(LOG_VERBOSE_LEVEL)
+    case ('--restart')
+      if (i == n) then
+        call input_error('command line', '--restart needs a checkpoint file '// &
+            '(ictus deck.inp --restart deck.chk.h5)')
+        call terminate(1)
+      end if
+      i = i + 1
+      opt%restart_path = argument(i)
+    case ('--wall-time')
+      if (i == n) then
+        call input_error('command line', '--wall-time needs a number of seconds')
+        call terminate(1)
+      end if
+      i = i + 1
+      arg = argument(i)
+      read(arg, *, iostat=ios) opt%wall_time
+      if (ios /= 0 .or. .not. opt%wall_time > 0.0_dp) then
+        call input_error('command line', '--wall-time needs a positive number of seconds, '// &
+            'found "'//arg//'"')
+        call terminate(1)
+      end if
     case ('-o', '--output')
       if (i == n) then
         call input_error('command line', arg//' needs a file name (ictus deck.inp -o results.h5)')
@@ -84,18 +107,22 @@ contains
   end function argument
 
   subroutine usage()
-    write(output_unit, '(a)') 'usage: ictus deck.inp [-o results.h5] [--check] [--quiet|--verbose]'
+    write(output_unit, '(a)') 'usage: ictus deck.inp [-o results.h5] [--check] [--restart F]'
+    write(output_unit, '(a)') '             [--wall-time S] [--quiet|--verbose]'
     write(output_unit, '(a)') ''
     write(output_unit, '(a)') 'Explicit contact-impact dynamics with finite elements and NURBS.'
     write(output_unit, '(a)') ''
     write(output_unit, '(a)') '  deck.inp        input deck (doc/user-guide.md)'
     write(output_unit, '(a)') '  -o, --output F  results file (default: the deck name with .h5)'
-    write(output_unit, '(a)') '  --check         read and check the deck and the time step, write nothing'
+    write(output_unit, '(a)') '  --check         check the deck and the time step, write nothing'
+    write(output_unit, '(a)') '  --restart F     continue from the checkpoint F (results.chk.h5)'
+    write(output_unit, '(a)') '  --wall-time S   stop after S seconds with a checkpoint (exit 3)'
     write(output_unit, '(a)') '  -q, --quiet     print errors and warnings only'
     write(output_unit, '(a)') '  -v, --verbose   print more detail'
     write(output_unit, '(a)') '  --version       print the version'
     write(output_unit, '(a)') ''
-    write(output_unit, '(a)') 'Exit status: 0 success, 1 bad input, 2 run-time failure.'
+    write(output_unit, '(a)') 'Exit status: 0 success, 1 bad input, 2 run-time failure,'
+    write(output_unit, '(a)') '             3 stopped at the wall-time limit (checkpoint written).'
     write(output_unit, '(a)') 'Parallel: mpirun -np N ictus deck.inp'
   end subroutine usage
 end program ictus

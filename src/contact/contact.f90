@@ -110,17 +110,21 @@ contains
   !! @param fc contact forces (2, nn): zeroed on the surface nodes, then accumulated (other
   !! entries are left untouched; zero the array once before the first call);
   !! @param energy penalty energy: sum over points of 1/2 eps gp^2 w J (TWO HALF PASS: the
-  !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s)
-  subroutine contact_forces(c, nn, x, fc, energy)
+  !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s);
+  !! @param dm optional (nn): the bipenalty masses (physics.md 4.6) of the active points of
+  !! the pairs with eps_m > 0, zeroed on the surface nodes and accumulated like fc
+  subroutine contact_forces(c, nn, x, fc, energy, dm)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
     real(dp), intent(in) :: x(2, nn)
     real(dp), intent(inout) :: fc(2, nn)
     real(dp), intent(out) :: energy
+    real(dp), intent(inout), optional :: dm(nn)
     integer :: k
     ! only surface nodes receive contact forces: zero just those (cost of the surface)
     do k = 1, c%nsurf
       fc(:, c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = 0.0_dp
+      if (present(dm)) dm(c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = 0.0_dp
     end do
     energy = 0.0_dp
     c%failures = 0
@@ -128,9 +132,10 @@ contains
       associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_TWO_HALF_PASS)
-          call two_half_pass_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc)
+          call two_half_pass_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, dm)
         case (PAIR_NODE_TO_SEGMENT)
-          call node_to_segment_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc)
+          call node_to_segment_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, &
+              dm)
         case (PAIR_WALL)
           call wall_forces(p, c%surfaces(p%first), x, fc)
         end select
@@ -151,7 +156,9 @@ contains
   !! master's l/m interpolated as sum_A |R_A| l_A/m_A at the node's closest point (the largest
   !! master l/m when the node has no closest point within the search radius); a rigid wall
   !! has only the slave term. Both surfaces of a TWO HALF PASS pair act as slave in turn.
-  !! The estimate asks for r <= 1 (r_s <= 1/2 for identical meshes).
+  !! The estimate asks for r <= 1 (r_s <= 1/2 for identical meshes). A pair with a mass
+  !! penalty eps_m > 0 (bipenalty) uses the masses m + 2 eps_m l of its fully active nodes
+  !! (the lower bound of the added masses of contact_forces, whose Gershgorin factor is >= 2).
   !! @param c contact; @param nn nodes; @param x coordinates (2, nn); @param m_diag lumped
   !! nodal masses (nn); @param dt time step; @param r_max largest r (huge for a non-positive
   !! mass); @param where text naming the worst point (pair, node ids)
@@ -168,19 +175,19 @@ contains
       associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_WALL)
-          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%first), &
+          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), c%surfaces(p%first), &
               p%grid_first, .false., nn, x, m_diag, dt, r_max, where)
         case (PAIR_NODE_TO_SEGMENT)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
-          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%second), &
-              p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
+              c%surfaces(p%second), p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
         case default
           call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
-          call side_ratio(c, p%name, p%penalty, c%surfaces(p%first), c%surfaces(p%second), &
-              p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
-          call side_ratio(c, p%name, p%penalty, c%surfaces(p%second), c%surfaces(p%first), &
-              p%grid_first, .true., nn, x, m_diag, dt, r_max, where)
+          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
+              c%surfaces(p%second), p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%second), &
+              c%surfaces(p%first), p%grid_first, .true., nn, x, m_diag, dt, r_max, where)
         end select
       end associate
     end do
@@ -188,11 +195,11 @@ contains
 
   !> Stability ratios of the nodes of `slave` against `master` (or a rigid wall when
   !! has_master is false); keeps the largest in r_max/where.
-  subroutine side_ratio(c, name, penalty, slave, master, grid, has_master, nn, x, m_diag, &
-      dt, r_max, where)
+  subroutine side_ratio(c, name, penalty, eps_m, slave, master, grid, has_master, nn, x, &
+      m_diag, dt, r_max, where)
     type(contact_t), intent(in) :: c
     character(len=*), intent(in) :: name
-    real(dp), intent(in) :: penalty
+    real(dp), intent(in) :: penalty, eps_m
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
     logical, intent(in) :: has_master
@@ -203,16 +210,16 @@ contains
     type(projection_t) :: pr
     real(dp) :: rs, rm, rm_all, r
     integer :: k, g, gm, gm_all, nf, cand(max(master%nseg, 1))
-    call largest_ratio(master, m_diag, has_master, rm_all, gm_all)
+    call largest_ratio(master, m_diag, eps_m, has_master, rm_all, gm_all)
     do k = 1, slave%nsn
       g = slave%nodes(k)
-      rs = ell_over_m(slave%ell(k), m_diag(g))
+      rs = ell_over_m(slave%ell(k), m_diag(g), eps_m)
       rm = 0.0_dp
       gm = 0
       if (has_master) then
         call closest_point(master, grid, x, x(:, g), cand, pr, nf)
         if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) then
-          call master_ratio(master, pr%seg, pr%t, m_diag, rm, gm)
+          call master_ratio(master, pr%seg, pr%t, m_diag, eps_m, rm, gm)
         else
           rm = rm_all
           gm = gm_all
@@ -233,9 +240,9 @@ contains
   end subroutine side_ratio
 
   !> Largest l_A/m_A over the nodes of a surface (0 if not wanted) and its node.
-  pure subroutine largest_ratio(surf, m_diag, wanted, rmax, gmax)
+  pure subroutine largest_ratio(surf, m_diag, eps_m, wanted, rmax, gmax)
     type(contact_surface_t), intent(in) :: surf
-    real(dp), intent(in) :: m_diag(:)
+    real(dp), intent(in) :: m_diag(:), eps_m
     logical, intent(in) :: wanted
     real(dp), intent(out) :: rmax
     integer, intent(out) :: gmax
@@ -245,7 +252,7 @@ contains
     gmax = 0
     if (.not. wanted) return
     do k = 1, surf%nsn
-      ra = ell_over_m(surf%ell(k), m_diag(surf%nodes(k)))
+      ra = ell_over_m(surf%ell(k), m_diag(surf%nodes(k)), eps_m)
       if (ra > rmax .or. gmax == 0) then
         rmax = ra
         gmax = surf%nodes(k)
@@ -255,10 +262,10 @@ contains
 
   !> sum_A |R_A(t)| l_A/m_A on master segment s (huge if a mass is non-positive) and the
   !! node with the largest |R_A|.
-  pure subroutine master_ratio(master, s, t, m_diag, rm, gm)
+  pure subroutine master_ratio(master, s, t, m_diag, eps_m, rm, gm)
     type(contact_surface_t), intent(in) :: master
     integer, intent(in) :: s
-    real(dp), intent(in) :: t, m_diag(:)
+    real(dp), intent(in) :: t, m_diag(:), eps_m
     real(dp), intent(out) :: rm
     integer, intent(out) :: gm
     real(dp) :: rr(master%nen_max), dr(master%nen_max), ddr(master%nen_max), ra, rbest
@@ -268,7 +275,7 @@ contains
     gm = 0
     rbest = -1.0_dp
     do a = 1, master%nen(s)
-      ra = ell_over_m(master%ell(master%lnode(a, s)), m_diag(master%conn(a, s)))
+      ra = ell_over_m(master%ell(master%lnode(a, s)), m_diag(master%conn(a, s)), eps_m)
       if (ra >= huge(1.0_dp)) then
         rm = ra
       else if (rm < huge(1.0_dp)) then
@@ -281,13 +288,13 @@ contains
     end do
   end subroutine master_ratio
 
-  !> l/m, or huge for a non-positive mass.
-  pure real(dp) function ell_over_m(ell, m)
-    real(dp), intent(in) :: ell, m
+  !> l/(m + 2 eps_m l), or huge for a non-positive mass m.
+  pure real(dp) function ell_over_m(ell, m, eps_m)
+    real(dp), intent(in) :: ell, m, eps_m
     if (m <= 0.0_dp) then
       ell_over_m = huge(1.0_dp)
     else
-      ell_over_m = ell/m
+      ell_over_m = ell/(m + 2.0_dp*eps_m*ell)
     end if
   end function ell_over_m
 

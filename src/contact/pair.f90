@@ -27,10 +27,13 @@ module ictus_contact_pair
   type :: contact_pair_t
     !> Name in lower case (as used in the results file).
     character(len=str_len) :: name = ''
-    !> PAIR_* kind, penalty eps_N, bipenalty mass penalty from the deck (< 0: none).
+    !> PAIR_* kind, penalty eps_N, bipenalty mass penalty from the deck (< 0: none,
+    !! 0: AUTO, > 0: eps_m), and the mass penalty eps_m in use (0: none; set by the time
+    !! step from mass_penalty, physics.md 4.6).
     integer :: kind = PAIR_TWO_HALF_PASS
     real(dp) :: penalty = 0.0_dp
     real(dp) :: mass_penalty = -1.0_dp
+    real(dp) :: eps_m = 0.0_dp
     !> Surface indices (in contact_t%surfaces) of the first and second surface (0: wall).
     integer :: first = 0
     integer :: second = 0
@@ -142,9 +145,12 @@ contains
   !! @param eps penalty; @param cand work; @param fc forces (2, nn), accumulated;
   !! @param force resultant on the slave (2), accumulated; @param energy sum 1/2 eps gp^2 wJ,
   !! accumulated; @param pmax, gmax max pressure/penetration; @param nact active points;
-  !! @param nfail failed projections; @param xout, pout optional point output (2, ngp), (ngp)
+  !! @param nfail failed projections; @param xout, pout optional point output (2, ngp), (ngp);
+  !! @param eps_m, dm optional bipenalty: mass penalty and the added nodal masses (nn),
+  !! accumulated on the slave nodes: eps_m wJ |R_a| (sum|R_slave| + sum|R_master|), the
+  !! absolute row sum of the slave rows of eps_m wJ C^T C, C = [R_slave, -R_master]
   pure subroutine half_pass(slave, master, grid, x, eps, cand, fc, force, energy, pmax, gmax, &
-      nact, nfail, xout, pout)
+      nact, nfail, xout, pout, eps_m, dm)
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
     real(dp), intent(in) :: x(:,:), eps
@@ -152,8 +158,11 @@ contains
     real(dp), intent(inout) :: fc(:,:), force(2), energy, pmax, gmax
     integer, intent(inout) :: nact, nfail
     real(dp), intent(inout), optional :: xout(:,:), pout(:)
+    real(dp), intent(in), optional :: eps_m
+    real(dp), intent(inout), optional :: dm(:)
     type(projection_t) :: pr
-    real(dp) :: xq(2), gp, tr(2), wj
+    real(dp) :: xq(2), gp, tr(2), wj, sm
+    real(dp) :: rm(master%nen_max), dr(master%nen_max), ddr(master%nen_max)
     integer :: q, s, a, g, nf
     do q = 1, slave%ngp
       s = slave%gp_seg(q)
@@ -174,6 +183,14 @@ contains
         g = slave%conn(a, s)
         fc(:, g) = fc(:, g) + slave%gp_r(a, q)*wj*tr
       end do
+      if (present(dm) .and. present(eps_m)) then
+        call segment_shape(master, pr%seg, pr%t, rm, dr, ddr)
+        sm = sum(abs(slave%gp_r(1:slave%nen(s), q))) + sum(abs(rm(1:master%nen(pr%seg))))
+        do a = 1, slave%nen(s)
+          g = slave%conn(a, s)
+          dm(g) = dm(g) + eps_m*wj*abs(slave%gp_r(a, q))*sm
+        end do
+      end if
       force = force + wj*tr
       energy = energy + 0.5_dp*eps*gp*gp*wj
       pmax = max(pmax, eps*gp)
@@ -185,38 +202,53 @@ contains
   !> TWO HALF PASS forces of one pair. The pair's energy is the mean of the two half-passes
   !! (each half-pass alone carries the whole penalty energy of the interface).
   !! @param pair the pair (results updated); @param s1, s2 its surfaces; @param x (2, nn);
-  !! @param fc forces (2, nn), accumulated
-  subroutine two_half_pass_forces(pair, s1, s2, x, fc)
+  !! @param fc forces (2, nn), accumulated; @param dm optional bipenalty added nodal masses
+  !! (nn), accumulated when pair%eps_m > 0
+  subroutine two_half_pass_forces(pair, s1, s2, x, fc, dm)
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(inout), optional :: dm(:)
     real(dp) :: e1, e2
     call pair_reset_results(pair)
     call update_grid(s1, x, pair%radius, pair%grid_first)
     call update_grid(s2, x, pair%radius, pair%grid_second)
     e1 = 0.0_dp
     e2 = 0.0_dp
-    call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
-        pair%force_first, e1, pair%max_pressure, pair%max_penetration, pair%active_points, &
-        pair%failures, pair%x, pair%pressure)
-    call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
-        pair%force_second, e2, pair%max_pressure, pair%max_penetration, pair%active_points, &
-        pair%failures)
+    if (present(dm) .and. pair%eps_m > 0.0_dp) then
+      call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
+          pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+          pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm)
+      call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
+          pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+          pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm)
+    else
+      call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
+          pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+          pair%active_points, pair%failures, pair%x, pair%pressure)
+      call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
+          pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+          pair%active_points, pair%failures)
+    end if
     pair%energy = 0.5_dp*(e1 + e2)
     pair%failures_total = pair%failures_total + pair%failures
   end subroutine two_half_pass_forces
 
   !> NODE TO SEGMENT forces of one pair: nodes of s1 (slave) against s2 (master).
   !! @param pair the pair (results updated); @param s1 slave, s2 master; @param x (2, nn);
-  !! @param fc forces (2, nn), accumulated
-  subroutine node_to_segment_forces(pair, s1, s2, x, fc)
+  !! @param fc forces (2, nn), accumulated; @param dm optional bipenalty added nodal masses
+  !! (nn), accumulated when pair%eps_m > 0: eps_m l_s (1 + sum|R|) on the slave node and
+  !! eps_m l_s |R_A| (1 + sum|R|) on master node A (the rows of eps_m l_s C^T C,
+  !! C = [1, -R_A], made diagonal by their absolute row sums)
+  subroutine node_to_segment_forces(pair, s1, s2, x, fc, dm)
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(inout), optional :: dm(:)
     type(projection_t) :: pr
-    real(dp) :: xs(2), gp, fs(2), r(s2%nen_max), dr(s2%nen_max), ddr(s2%nen_max)
+    real(dp) :: xs(2), gp, fs(2), r(s2%nen_max), dr(s2%nen_max), ddr(s2%nen_max), sm
     integer :: k, g, a, nf
     call pair_reset_results(pair)
     call update_grid(s2, x, pair%radius, pair%grid_second)
@@ -236,6 +268,13 @@ contains
       do a = 1, s2%nen(pr%seg)
         fc(:, s2%conn(a, pr%seg)) = fc(:, s2%conn(a, pr%seg)) - r(a)*fs
       end do
+      if (present(dm) .and. pair%eps_m > 0.0_dp) then
+        sm = pair%eps_m*s1%ell(k)*(1.0_dp + sum(abs(r(1:s2%nen(pr%seg)))))
+        dm(g) = dm(g) + sm
+        do a = 1, s2%nen(pr%seg)
+          dm(s2%conn(a, pr%seg)) = dm(s2%conn(a, pr%seg)) + abs(r(a))*sm
+        end do
+      end if
       pair%force_first = pair%force_first + fs
       pair%force_second = pair%force_second - fs
       pair%energy = pair%energy + 0.5_dp*pair%penalty*gp*gp*s1%ell(k)

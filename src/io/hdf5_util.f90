@@ -10,9 +10,11 @@ module ictus_io_hdf5_util
       h5pset_libver_bounds_f, h5pset_chunk_f, h5gcreate_f, h5gclose_f, h5gopen_f, &
       h5screate_f, h5screate_simple_f, h5sclose_f, h5sselect_none_f, h5sselect_hyperslab_f, &
       h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dset_extent_f, h5dget_space_f, &
-      h5sget_simple_extent_dims_f, h5sselect_elements_f, h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
-      h5tset_size_f, h5tclose_f, h5lexists_f, &
-      H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
+      h5sget_simple_extent_dims_f, h5sget_simple_extent_ndims_f, h5sselect_elements_f, &
+      h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
+      h5tset_size_f, h5tclose_f, h5lexists_f, h5fopen_f, h5dread_f, h5aopen_f, h5aread_f, &
+      h5adelete_f, h5aexists_f, h5aget_type_f, h5tget_size_f, h5ldelete_f, &
+      H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
       H5P_DATASET_CREATE_F, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, H5FD_MPIO_COLLECTIVE_F, &
       H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
       H5T_NATIVE_CHARACTER, H5F_SCOPE_GLOBAL_F
@@ -23,12 +25,18 @@ module ictus_io_hdf5_util
   private
   public :: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, h5u_close_group, &
       h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, h5u_create_ext, h5u_append, &
-      h5u_exists, h5u_write_rows
+      h5u_exists, h5u_write_rows, h5u_open_file, h5u_read, h5u_read_attr_real, &
+      h5u_read_attr_int, h5u_read_attr_string, h5u_truncate, h5u_delete, h5u_delete_attr, &
+      h5u_extent
 
   !> Writes a whole dataset (data from rank 0).
   interface h5u_write
     module procedure write_real1, write_real2, write_int1, write_int2
   end interface h5u_write
+  !> Reads a whole dataset on every rank.
+  interface h5u_read
+    module procedure read_real1, read_real2, read_int1
+  end interface h5u_read
   !> Writes a dataset of nglobal rows of which every rank holds some (its owned nodes).
   interface h5u_write_rows
     module procedure write_rows1, write_rows2
@@ -38,7 +46,7 @@ module ictus_io_hdf5_util
     module procedure append_real1, append_real2, append_int1
   end interface h5u_append
 
-  !> The collective transfer property list, made when the file is created.
+  !> The collective transfer property list (one for all files, made on first use).
   integer(hid_t) :: dxpl = -1
 
 contains
@@ -68,11 +76,197 @@ contains
     call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, err, access_prp=fapl)
     call check(err, 'creating '//trim(path))
     call h5pclose_f(fapl, err)
+    call make_dxpl()
+  end subroutine h5u_create_file
+
+  !> The collective transfer property list, made once and shared by all open files.
+  subroutine make_dxpl()
+    integer :: err
+    if (dxpl >= 0) return
     call h5pcreate_f(H5P_DATASET_XFER_F, dxpl, err)
     call check(err, 'h5pcreate dxpl')
     call h5pset_dxpl_mpio_f(dxpl, H5FD_MPIO_COLLECTIVE_F, err)
     call check(err, 'h5pset_dxpl_mpio')
-  end subroutine h5u_create_file
+  end subroutine make_dxpl
+
+  !> Opens an existing file for collective parallel access (read-only unless `readwrite`).
+  !! `ok` is false when the file cannot be opened (the caller reports it).
+  subroutine h5u_open_file(path, readwrite, file_id, ok)
+    character(len=*), intent(in) :: path
+    logical, intent(in) :: readwrite
+    integer(hid_t), intent(out) :: file_id
+    logical, intent(out) :: ok
+    integer(hid_t) :: fapl
+    integer :: err
+    logical :: exists
+    ok = .false.
+    file_id = -1
+    inquire(file=path, exist=exists)
+    if (.not. exists) return
+    call h5open_f(err)
+    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+    call h5pset_fapl_mpio_f(fapl, env_comm_f(), env_info_null_f(), err)
+    call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, err)
+    if (readwrite) then
+      call h5fopen_f(path, H5F_ACC_RDWR_F, file_id, err, access_prp=fapl)
+    else
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file_id, err, access_prp=fapl)
+    end if
+    call h5pclose_f(fapl, err)
+    if (err < 0) return
+    ok = .true.
+    call make_dxpl()
+  end subroutine h5u_open_file
+
+  !> Current shape of a dataset (up to rank 2; dims(2) = 0 for rank 1), Fortran order.
+  subroutine h5u_extent(loc, name, dims)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: dims(2)
+    integer(hid_t) :: did, fs
+    integer(hsize_t) :: d(2), md(2)
+    integer :: err, rank
+    call h5dopen_f(loc, name, did, err)
+    call check(err, 'opening '//name)
+    call h5dget_space_f(did, fs, err)
+    call h5sget_simple_extent_ndims_f(fs, rank, err)
+    d = 0
+    call h5sget_simple_extent_dims_f(fs, d(1:rank), md(1:rank), err)
+    dims = int(d)
+    if (rank == 1) dims(2) = 0
+    call h5sclose_f(fs, err)
+    call h5dclose_f(did, err)
+  end subroutine h5u_extent
+
+  subroutine read_real1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(out) :: x(:)
+    integer(hid_t) :: did
+    integer :: err
+    call h5dopen_f(loc, name, did, err)
+    call check(err, 'opening '//name)
+    call h5dread_f(did, H5T_NATIVE_DOUBLE, x, shape(x, kind=hsize_t), err, xfer_prp=dxpl)
+    call check(err, 'reading '//name)
+    call h5dclose_f(did, err)
+  end subroutine read_real1
+
+  subroutine read_real2(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    real(dp), intent(out) :: x(:,:)
+    integer(hid_t) :: did
+    integer :: err
+    call h5dopen_f(loc, name, did, err)
+    call check(err, 'opening '//name)
+    call h5dread_f(did, H5T_NATIVE_DOUBLE, x, shape(x, kind=hsize_t), err, xfer_prp=dxpl)
+    call check(err, 'reading '//name)
+    call h5dclose_f(did, err)
+  end subroutine read_real2
+
+  subroutine read_int1(loc, name, x)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: x(:)
+    integer(hid_t) :: did
+    integer :: err
+    call h5dopen_f(loc, name, did, err)
+    call check(err, 'opening '//name)
+    call h5dread_f(did, H5T_NATIVE_INTEGER, x, shape(x, kind=hsize_t), err, xfer_prp=dxpl)
+    call check(err, 'reading '//name)
+    call h5dclose_f(did, err)
+  end subroutine read_int1
+
+  real(dp) function h5u_read_attr_real(loc, name) result(v)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(hid_t) :: aid
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = 1
+    call h5aopen_f(loc, name, aid, err)
+    call check(err, 'opening attribute '//name)
+    call h5aread_f(aid, H5T_NATIVE_DOUBLE, v, dims, err)
+    call h5aclose_f(aid, err)
+  end function h5u_read_attr_real
+
+  integer function h5u_read_attr_int(loc, name) result(v)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer(hid_t) :: aid
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    dims = 1
+    call h5aopen_f(loc, name, aid, err)
+    call check(err, 'opening attribute '//name)
+    call h5aread_f(aid, H5T_NATIVE_INTEGER, v, dims, err)
+    call h5aclose_f(aid, err)
+  end function h5u_read_attr_int
+
+  !> A string attribute ('' when it does not exist).
+  function h5u_read_attr_string(loc, name) result(v)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: v
+    integer(hid_t) :: aid, tid
+    integer(size_t) :: n
+    integer(hsize_t) :: dims(1)
+    integer :: err
+    logical :: exists
+    v = ''
+    call h5aexists_f(loc, name, exists, err)
+    if (.not. exists) return
+    dims = 1
+    call h5aopen_f(loc, name, aid, err)
+    call h5aget_type_f(aid, tid, err)
+    call h5tget_size_f(tid, n, err)
+    deallocate(v)
+    allocate(character(len=n) :: v)
+    call h5aread_f(aid, tid, v, dims, err)
+    call check(err, 'reading attribute '//name)
+    call h5tclose_f(tid, err)
+    call h5aclose_f(aid, err)
+  end function h5u_read_attr_string
+
+  !> Cuts an extendible record dataset (rank 1 or 2, records last in Fortran order) to nrec.
+  subroutine h5u_truncate(loc, name, nrec)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: nrec
+    integer(hid_t) :: did
+    integer :: dims(2), err
+    call h5u_extent(loc, name, dims)
+    call h5dopen_f(loc, name, did, err)
+    if (dims(2) == 0) then
+      call h5dset_extent_f(did, [int(nrec, hsize_t)], err)
+    else
+      call h5dset_extent_f(did, [int(dims(1), hsize_t), int(nrec, hsize_t)], err)
+    end if
+    call check(err, 'truncating '//name)
+    call h5dclose_f(did, err)
+  end subroutine h5u_truncate
+
+  !> Removes the link `name` below `loc` if it exists.
+  subroutine h5u_delete(loc, name)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer :: err
+    if (.not. h5u_exists(loc, name)) return
+    call h5ldelete_f(loc, name, err)
+    call check(err, 'deleting '//name)
+  end subroutine h5u_delete
+
+  !> Removes the attribute `name` of `loc` if it exists.
+  subroutine h5u_delete_attr(loc, name)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    integer :: err
+    logical :: exists
+    call h5aexists_f(loc, name, exists, err)
+    if (.not. exists) return
+    call h5adelete_f(loc, name, err)
+    call check(err, 'deleting attribute '//name)
+  end subroutine h5u_delete_attr
 
   subroutine h5u_close_file(file_id)
     integer(hid_t), intent(inout) :: file_id
@@ -81,8 +275,6 @@ contains
     call h5fclose_f(file_id, err)
     call check(err, 'closing the results file')
     file_id = -1
-    if (dxpl >= 0) call h5pclose_f(dxpl, err)
-    dxpl = -1
   end subroutine h5u_close_file
 
   !> Flushes everything written so far to disk, so the file is readable if the run stops.

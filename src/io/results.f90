@@ -15,12 +15,13 @@ module ictus_io_results
   use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
-      h5u_create_ext, h5u_append, h5u_write_rows
+      h5u_create_ext, h5u_append, h5u_write_rows, h5u_open_file, h5u_truncate, h5u_delete, &
+      h5u_delete_attr
   use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t
   implicit none
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
-      history_record_t, results_contact
+      history_record_t, results_contact, results_reopen, results_flush, results_records
 
   !> Records kept in memory before they are appended to the file.
   integer, parameter :: buffer_size = 512
@@ -40,6 +41,8 @@ module ictus_io_results
     character(len=:), allocatable :: path
     character(len=:), allocatable :: xdmf_path
     integer :: nbuf = 0
+    !> History records already appended to the file.
+    integer :: n_written = 0
     type(history_record_t) :: buf(buffer_size)
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
@@ -82,14 +85,7 @@ contains
     integer, intent(in) :: gid(:)
     real(dp), intent(in) :: omega_max, dt
     integer(hid_t) :: g
-    integer :: k
-    r%path = path
-    k = index(path, '.h5', back=.true.)
-    if (k > 0 .and. k == len(path) - 2) then
-      r%xdmf_path = path(1:k - 1)//'.xdmf'
-    else
-      r%xdmf_path = path//'.xdmf'
-    end if
+    call set_paths(r, path)
     r%nn = model%nn
     allocate(r%field_step(0), r%field_time(0))
     call h5u_create_file(path, r%file)
@@ -109,7 +105,8 @@ contains
     call h5u_attr_real(r%file, 'dt', dt)
     call write_model(r, model, m_diag, gid)
     call write_partition(r, dom)
-    call write_viz(r, model, dom)
+    call setup_views(r, model, dom)
+    call write_viz(r)
     call h5u_group(r%file, 'history', g)
     call h5u_create_ext(g, 'time', 0, buffer_size)
     call h5u_create_ext(g, 'dt', 0, buffer_size)
@@ -182,7 +179,7 @@ contains
     real(dp), intent(in) :: m_diag(:)
     integer, intent(in) :: gid(:)
     integer(hid_t) :: g, ge, gp
-    integer :: t, ne, e, k, ip, ng, nen
+    integer :: t, ne, e, k, ip, nen
     integer, allocatable :: conn(:,:), ids(:)
     character(len=:), allocatable :: tname
     call h5u_group(r%file, 'model', g)
@@ -191,8 +188,6 @@ contains
     call h5u_write_rows(g, 'mass', m_diag(1:size(gid)), gid, model%nn)
     call h5u_write(g, 'node_ids', model%node_id)
     call h5u_group(g, 'elements', ge)
-    allocate(r%grids(0))
-    ng = 0
     do t = ETYPE_Q4, ETYPE_IGA
       ne = count(model%etype == t)
       if (ne == 0) cycle
@@ -211,10 +206,6 @@ contains
       call h5u_write(gp, 'connectivity', conn)
       call h5u_write(gp, 'ids', ids)
       call h5u_close_group(gp)
-      if (t /= ETYPE_IGA) then
-        ng = ng + 1
-        r%grids = [r%grids, xdmf_grid_t(tname, t, ne, nen, model%nn)]
-      end if
       deallocate(conn, ids)
     end do
     call h5u_close_group(ge)
@@ -249,26 +240,128 @@ contains
   end subroutine write_partition
 
   !> /viz/iga: sample points and linear sub-cells of the NURBS elements, for viewing.
-  subroutine write_viz(r, model, dom)
+  subroutine write_viz(r)
     type(results_t), intent(inout) :: r
-    type(model_t), intent(in) :: model
-    type(domain_t), intent(in) :: dom
     integer(hid_t) :: g
-    integer :: k
-    if (model%npatch == 0) return
-    call iga_viz_init(model, r%viz)
-    r%viz_mine = pack([(k, k = 1, r%viz%ns)], &
-        dom%owner(model%conn(1, r%viz%elem)) == dom%rank)
-    r%nviz_mine = size(r%viz_mine)
-    allocate(r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    if (r%viz%ns == 0) return
     call h5u_group(r%file, 'viz', g)
     call h5u_close_group(g)
     call h5u_group(r%file, 'viz/iga', g)
     call h5u_write(g, 'points', r%viz%points)
     call h5u_write(g, 'cells', r%viz%cells)
     call h5u_close_group(g)
-    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns)]
   end subroutine write_viz
+
+  !> The XDMF cell blocks (one per FE type, plus the NURBS viewing cells) and the viewing
+  !! samples this rank evaluates.
+  subroutine setup_views(r, model, dom)
+    type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer :: t, ne, k
+    allocate(r%grids(0))
+    do t = ETYPE_Q4, ETYPE_Q9
+      ne = count(model%etype == t)
+      if (ne == 0) cycle
+      r%grids = [r%grids, xdmf_grid_t(lower(etype_name(t)), t, ne, &
+          maxval(model%nen, mask=model%etype == t), model%nn)]
+    end do
+    if (model%npatch == 0) return
+    call iga_viz_init(model, r%viz)
+    r%viz_mine = pack([(k, k = 1, r%viz%ns)], &
+        dom%owner(model%conn(1, r%viz%elem)) == dom%rank)
+    r%nviz_mine = size(r%viz_mine)
+    allocate(r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns)]
+  end subroutine setup_views
+
+  !> Reopens the results file of an interrupted run to continue it from a checkpoint: history
+  !! datasets are cut back to `n_history` records, snapshots at the steps `drop_steps` (those
+  !! after the checkpoint) and the `status` attribute are removed. `ok` is false when the file
+  !! cannot be opened.
+  subroutine results_reopen(r, path, model, dom, contact, n_history, field_steps, field_times, &
+      drop_steps, ok)
+    type(results_t), intent(out) :: r
+    character(len=*), intent(in) :: path
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    type(contact_t), intent(in) :: contact
+    integer, intent(in) :: n_history, field_steps(:), drop_steps(:)
+    real(dp), intent(in) :: field_times(:)
+    logical, intent(out) :: ok
+    integer(hid_t) :: g
+    integer :: k, j
+    character(len=8) :: name
+    character(len=*), parameter :: energies(5) = [character(len=13) :: 'kinetic', 'strain', &
+        'contact', 'external_work', 'total']
+    character(len=*), parameter :: cnames(5) = [character(len=15) :: 'force_first', &
+        'force_second', 'max_pressure', 'max_penetration', 'active_points']
+    call set_paths(r, path)
+    r%nn = model%nn
+    call h5u_open_file(path, .true., r%file, ok)
+    if (.not. ok) return
+    call setup_views(r, model, dom)
+    r%npairs = contact%npairs
+    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    do k = 1, r%npairs
+      r%pair_name(k) = trim(lower(contact%pairs(k)%name))
+    end do
+    call h5u_group(r%file, 'history', g)
+    call h5u_truncate(g, 'time', n_history)
+    call h5u_truncate(g, 'dt', n_history)
+    call h5u_close_group(g)
+    call h5u_group(r%file, 'history/energy', g)
+    do k = 1, size(energies)
+      call h5u_truncate(g, trim(energies(k)), n_history)
+    end do
+    call h5u_close_group(g)
+    do k = 1, r%npairs
+      call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
+      do j = 1, size(cnames)
+        call h5u_truncate(g, trim(cnames(j)), n_history)
+      end do
+      call h5u_close_group(g)
+    end do
+    do j = 1, size(drop_steps)
+      write(name, '(i8.8)') drop_steps(j)
+      call h5u_delete(r%file, 'fields/'//name)
+      do k = 1, r%npairs
+        call h5u_delete(r%file, 'contact/'//trim(r%pair_name(k))//'/'//name)
+      end do
+    end do
+    call h5u_delete_attr(r%file, 'status')
+    r%field_step = field_steps
+    r%field_time = field_times
+    r%n_fields = size(field_steps)
+    r%n_written = n_history
+    call h5u_flush(r%file)
+  end subroutine results_reopen
+
+  !> The results path and the XDMF path next to it.
+  subroutine set_paths(r, path)
+    type(results_t), intent(inout) :: r
+    character(len=*), intent(in) :: path
+    integer :: k
+    r%path = path
+    k = index(path, '.h5', back=.true.)
+    if (k > 0 .and. k == len(path) - 2) then
+      r%xdmf_path = path(1:k - 1)//'.xdmf'
+    else
+      r%xdmf_path = path//'.xdmf'
+    end if
+  end subroutine set_paths
+
+  !> Appends the buffered history to the file and flushes it (before a checkpoint).
+  subroutine results_flush(r)
+    type(results_t), intent(inout) :: r
+    call flush_history(r)
+  end subroutine results_flush
+
+  !> Number of history records in the file plus those buffered.
+  integer function results_records(r)
+    type(results_t), intent(in) :: r
+    results_records = r%n_written + r%nbuf
+  end function results_records
 
   !> Values at this rank's viewing samples of a local field x (2, nlocal).
   subroutine viz_eval_local(r, dom, x, xs)
@@ -335,6 +428,7 @@ contains
       call h5u_append(g, 'active_points', r%icol(1:n))
       call h5u_close_group(g)
     end do
+    r%n_written = r%n_written + n
     r%nbuf = 0
     call h5u_flush(r%file)
   end subroutine flush_history

@@ -40,6 +40,11 @@ module ictus_solver_assemble
     real(dp), allocatable :: c_diag(:)
   end type operators_t
 
+  !> Everything is computed per unit thickness (results-format.md): with a uniform thickness
+  !! t, stiffness, mass and contact forces all scale with t, and the motion does not depend
+  !! on it. *ANALYSIS, THICKNESS= is recorded in the results file only.
+  real(dp), parameter :: unit_thickness = 1.0_dp
+
   !> Shape data of the Lagrange element types, computed once per type and rule.
   type :: shape_cache_t
     logical :: ready(3, 2:3, 2) = .false.
@@ -115,10 +120,10 @@ contains
       mt = model%mat(e)
       call elastic_dmat(model%young(mt), model%poisson(mt), model%plane_strain, d)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      call solid2d_stiffness(nen, shp, xl, d, model%thickness, ke, ierr)
+      call solid2d_stiffness(nen, shp, xl, d, unit_thickness, ke, ierr)
       if (ierr /= 0) cycle
       call bsr_add_element(ops%k, nen, nodes, ke)
-      call solid2d_mass(nen, shp, xl, model%density(mt), model%thickness, me, mass_e, ierr)
+      call solid2d_mass(nen, shp, xl, model%density(mt), unit_thickness, me, mass_e, ierr)
       if (dom%part(e) == dom%rank) then
         nmine = nmine + 1
         emass(nmine) = mass_e
@@ -135,7 +140,7 @@ contains
       case (MASS_HRZ)
         if (model%hrz_rule(e) == HRZ_GAUSS2 .and. model%etype(e) /= ETYPE_IGA) then
           call element_shape(model, e, [2, 2], cache, 2, shp2)
-          call solid2d_mass(nen, shp2, xl, model%density(mt), model%thickness, me2, mass_e2, &
+          call solid2d_mass(nen, shp2, xl, model%density(mt), unit_thickness, me2, mass_e2, &
               ierr)
           do i = 1, nen
             diag(i) = me2(i, i)

@@ -14,7 +14,7 @@ module ictus_solver_mass_operator
   use ictus_solver_domain, only: domain_t
   implicit none
   private
-  public :: mass_op_t, mass_op_init, mass_solve, mass_apply
+  public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added
 
   type :: mass_op_t
     !> Owned nodes (rows), local nodes (owned + ghost), global nodes.
@@ -86,6 +86,19 @@ contains
       end do
     end do
   end subroutine mass_op_init
+
+  !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
+  !! (bipenalty, physics.md 4.6): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
+  !! 1/m_i. Massless nodes and fixed dofs keep 0; m_diag (the kinetic energy and mass_apply)
+  !! is not changed. Does nothing for a consistent mass.
+  !! @param op operator; @param i owned node (1..nn); @param dm added mass
+  pure subroutine mass_set_added(op, i, dm)
+    type(mass_op_t), intent(inout) :: op
+    integer, intent(in) :: i
+    real(dp), intent(in) :: dm
+    if (op%consistent) return
+    if (op%m_diag(i) > 0.0_dp) op%inv_diag(:, i) = op%free(:, i)/(op%m_diag(i) + dm)
+  end subroutine mass_set_added
 
   !> mv = M v on the owned rows (v must hold current ghost values for a consistent mass).
   subroutine mass_apply(op, v, mv)

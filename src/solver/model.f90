@@ -73,6 +73,8 @@ module ictus_solver_model
     real(dp) :: safety = 0.9_dp
     integer :: history_every = 1
     integer :: field_every = 0
+    !> Checkpoint every n steps (0: only when stopped at a wall-time limit).
+    integer :: restart_every = 0
   end type model_t
 
 contains

@@ -65,17 +65,20 @@ contains
     omega = sqrt(max(lam, 0.0_dp))
   end subroutine omega_max_power
 
-  !> A deterministic pseudo-random number in [-1, 1) from an integer seed.
+  !> A deterministic pseudo-random number in [-1, 1) from an integer seed: the seed scrambled
+  !! by rounds of a xorshift generator (bit operations only, no overflow), so neighbouring
+  !! seeds give unrelated values and the start vector has a component along every mode.
   pure real(dp) function hash_uniform(seed)
     integer, intent(in) :: seed
-    integer(i8), parameter :: modulus = 2147483647_i8
-    integer(i8) :: h
+    integer(i8) :: x
     integer :: r
-    ! three rounds of the Park-Miller generator (products stay below 2^47)
-    h = mod(int(abs(seed), i8) + 1_i8, modulus)
-    do r = 1, 3
-      h = mod(h*48271_i8, modulus)
+    x = int(seed, i8)*2654435761_i8 + 360673760222240851_i8
+    do r = 1, 4
+      x = ieor(x, ishft(x, 13))
+      x = ieor(x, ishft(x, -7))
+      x = ieor(x, ishft(x, 17))
     end do
-    hash_uniform = 2.0_dp*real(h, dp)/real(modulus, dp) - 1.0_dp
+    ! the top 53 bits as a fraction in [0, 1)
+    hash_uniform = 2.0_dp*real(ishft(x, -11), dp)/2.0_dp**53 - 1.0_dp
   end function hash_uniform
 end module ictus_solver_timestep

@@ -1,5 +1,6 @@
 !> Power iteration for omega_max against the exact eigenvalues of a lumped spring chain:
-!! fixed-free chain of n equal springs k and masses m has omega_j = 2 sqrt(k/m) sin((2j-1)pi/(4n+2)).
+!! fixed-free chain of n equal springs k and masses m has
+!! omega_j = 2 sqrt(k/m) sin((2j-1) pi/(4n+2)).
 program test_timestep
   use ictus_core_kinds, only: dp, pi
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Bipenalty (physics.md §4.6) on the two-bar impact of physics.md §6.2: a very stiff penalty
+(eps_hat = eps h / E = 1e3) at the time step of the bulk.
+
+The decks of verification/contact_two_bars (Q8 HRZ, 100 x 1 per bar, +-v0) with
+eps_hat = 1e3. With MASS PENALTY=AUTO the automatic step is the bulk's 0.9 * 2/omega0_max
+(the mass penalty keeps the predictor-corrector ratio r below 1/2), and the §6.1 gates hold.
+The same deck without the mass penalty, run at that same step, has r > 1: the printed ratio
+is checked, and the run either blows up (exit 2) or misses the §6.1 gates. A consistent
+mass with MASS PENALTY is refused (exit 1, message naming the card).
+The omega_max statement (bipenalty keeps omega_max at the no-contact value, plain penalty
+raises it) is checked by the unit test tests/unit/solver/test_contact_omega.
+"""
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
+                                "contact_two_bars"))
+import vcheck  # noqa: E402
+import impact  # noqa: E402
+import check as two_bars  # noqa: E402
+from impact import C, RHO  # noqa: E402
+
+
+def main():
+    args = vcheck.arguments()
+    chk = vcheck.Checker("contact_bipenalty")
+    path = os.path.join(args.work, "bip.inp")
+    with open(path, "w") as fd:
+        fd.write(two_bars.two_bar_deck("Q8", 1e3, ", MASS PENALTY=AUTO"))
+    out = path.replace(".inp", ".h5")
+    _, log = vcheck.run_ictus(args, path, out)
+    r = vcheck.Results(out)
+    dt = float(r.history("dt")[0])
+    dt_crit = float(re.search(r"critical time step 2/omega_max = ([-+0-9.eE]+)", log).group(1))
+    chk.close(dt, 0.9 * dt_crit, 1e-6, "bipenalty: automatic dt = 0.9 * 2/omega0_max (bulk)")
+    chk.below(max(impact.ratios(log)), 0.5, "bipenalty: printed ratio r")
+    p = two_bars.check_pulse(chk, r, "bipenalty eps_hat = 1e3", dt)
+    print(f"  bipenalty: dt {dt:.6g}, plateau {p['plateau'] / (RHO * C * two_bars.H):.5f}, "
+          f"duration {p['duration'] / (2 * two_bars.L / C):.5f}, impulse "
+          f"{p['impulse'] / (2 * RHO * two_bars.H * two_bars.L):.5f}, bursts {p['nbursts']}")
+    # plain penalty at the same step
+    path = os.path.join(args.work, "plain.inp")
+    with open(path, "w") as fd:
+        fd.write(two_bars.two_bar_deck("Q8", 1e3, "", dt=dt))
+    pr = subprocess.run([args.ictus, path, "-o", path.replace(".inp", ".h5")],
+                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    rp = max(impact.ratios(pr.stdout))
+    chk.true(rp > 1.0, f"plain penalty at the bulk step: printed r = {rp:.4g} > 1")
+    if pr.returncode == 2:
+        chk.true(True, "plain penalty at the bulk step: the run blows up (exit 2)")
+    else:
+        rr = vcheck.Results(path.replace(".inp", ".h5"))
+        t = rr.history("time")
+        q = impact.pulse(t, -rr.history("contact/bars/force_first")[:, 0], dt)
+        ek = rr.history("energy/kinetic")
+        bad = (abs(q["impulse"] / (2 * RHO * two_bars.H * two_bars.L) - 1) > 0.01
+               or abs(q["duration"] / (2 * two_bars.L / C) - 1) > 0.03 or ek[-1] < 0.97 * ek[0]
+               or ek[-1] > 1.03 * ek[0])
+        chk.true(bad, f"plain penalty at the bulk step misses the §6.1 gates (impulse "
+                 f"{q['impulse'] / (2 * RHO * two_bars.H * two_bars.L):.4g}, duration "
+                 f"{q['duration'] / (2 * two_bars.L / C):.4g}, kinetic energy {ek[-1] / ek[0]:.4g})")
+    # consistent mass is refused
+    path = os.path.join(args.work, "consistent.inp")
+    with open(path, "w") as fd:
+        fd.write(two_bars.two_bar_deck("Q8", 1e3, ", MASS PENALTY=AUTO", mass="CONSISTENT"))
+    pc = subprocess.run([args.ictus, path], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                        text=True)
+    chk.true(pc.returncode == 1 and "*CONTACT PAIR, NAME=BARS" in pc.stdout
+             and "lumped mass" in pc.stdout,
+             "MASS PENALTY with a consistent mass: input error naming the card (exit 1)")
+    chk.finish()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""Restart: a run stopped at a wall-time limit and continued from its checkpoint, by the
+cluster job logic (scripts/cluster/ictus-job.sh), on a different number of ranks, finishes
+with a results file identical to an uninterrupted run; a leftover partial checkpoint does not
+matter; a checkpoint of another deck is refused.
+
+Deck: the dynamic Hertz problem (NURBS, HRZ, 8 x 8 spans, contact), 1800 steps, with
+*RESTART, WRITE, EVERY=200. Identity is checked dataset by dataset, to the bit (ictus keeps the
+whole time-loop state in the checkpoint, including the conjugate-gradient warm starts and the
+last contact results, and all its sums are reproducible on any number of ranks).
+"""
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+import vcheck  # noqa: E402
+
+sys.path.insert(0, os.path.join(vcheck.ROOT, "scripts", "mesh"))
+import hertz  # noqa: E402
+
+
+def same_results(chk, ref, other, label):
+    a, b = ref.f, other.f
+    names = []
+    a.visit(lambda k: names.append(k) if hasattr(a[k], "shape") else None)
+    names = [k for k in names if k not in ("model/partition", "model/element_partition")]
+    extra = []
+    b.visit(lambda k: extra.append(k) if hasattr(b[k], "shape") and k not in a else None)
+    bad = [k for k in names if k not in b or not np.array_equal(np.asarray(a[k]), np.asarray(b[k]))]
+    for k in bad[:10]:
+        print(f"    differs: {k}")
+    chk.true(not bad and not extra, f"{label}: all {len(names)} datasets identical to the "
+             f"uninterrupted run ({len(bad)} differ, {len(extra)} extra)")
+    chk.true(other.attr("status") == "completed", f"{label}: status completed")
+
+
+def main():
+    args = vcheck.arguments()
+    chk = vcheck.Checker("restart")
+    text = hertz.deck(hertz.options(kind="iga", mass="HRZ", subdivide=8, t_end=0.9,
+                                    field_every=150), "verification/restart")
+    text = text.replace("*END STEP", "*RESTART, WRITE, EVERY=200\n*END STEP")
+    deck = os.path.join(args.work, "hertz.inp")
+    with open(deck, "w") as f:
+        f.write(text)
+    ref_out = os.path.join(args.work, "ref.h5")
+    _, log = vcheck.run_ictus(args, deck, ref_out, np=1)
+    ref = vcheck.Results(ref_out)
+    # a budget of a third of the uninterrupted run's time loop: a few segments in any build
+    loop = float(re.search(r"wall time: ([0-9.eE+-]+) s", log).group(1))
+    budget = f"{max(loop / 3.0, 0.01):.4f}"
+
+    # the chained job: segments of a small wall-time budget on 2 ranks, continued on 3
+    out = os.path.join(args.work, "chained.h5")
+    for p in (out, out[:-3] + ".chk.h5"):
+        if os.path.exists(p):
+            os.remove(p)
+    env = dict(os.environ, ICTUS=args.ictus, ICTUS_WALL=budget,
+               ICTUS_LAUNCH=f"{args.mpirun} --oversubscribe -np 2")
+    job = os.path.join(vcheck.ROOT, "scripts", "cluster", "ictus-job.sh")
+    # first segment alone (it queues nothing: ICTUS_RESUBMIT=true only reports), then the rest
+    env1 = dict(env, ICTUS_RESUBMIT="true")
+    p = subprocess.run(["bash", job, deck, out], env=env1, text=True, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT)
+    stopped = "wall-time limit reached" in p.stdout
+    chk.true(p.returncode == 0 and stopped and os.path.exists(out[:-3] + ".chk.h5"),
+             "first segment stops at the wall-time limit with a checkpoint")
+    partial = vcheck.Results(out)
+    chk.true(partial.attr("status").startswith("stopped at the wall-time limit"),
+             "the stopped run's results say so and how to continue")
+    partial.f.close()
+    # a leftover partial checkpoint from a run killed while writing must not matter
+    with open(out[:-3] + ".chk.h5.tmp", "wb") as f:
+        f.write(b"\x89HDF\r\n\x1a\n truncated")
+    env3 = dict(env, ICTUS_LAUNCH=f"{args.mpirun} --oversubscribe -np 3")
+    p = subprocess.run(["bash", job, deck, out], env=env3, text=True, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT)
+    segments = p.stdout.count("continues from")
+    print(f"  (the chain ran {segments} more segment(s) on 3 ranks)")
+    chk.true(p.returncode == 0 and "completed" in p.stdout, "the chain completes")
+    chk.true(not os.path.exists(out[:-3] + ".chk.h5"), "the checkpoint is removed at the end")
+    same_results(chk, ref, vcheck.Results(out), "chained run (np 2 then 3)")
+
+    # a checkpoint of another deck is refused (exit 1, message), nothing is overwritten
+    vcheck.run_ictus(args, deck, os.path.join(args.work, "periodic.h5"), np=1,
+                     extra=["--wall-time", budget], expect_status=3)
+    other = text.replace("0.9\n", "0.8\n", 1)
+    other_deck = os.path.join(args.work, "other.inp")
+    with open(other_deck, "w") as f:
+        f.write(other)
+    _, log = vcheck.run_ictus(args, other_deck, os.path.join(args.work, "periodic.h5"),
+                              extra=["--restart", os.path.join(args.work, "periodic.chk.h5")],
+                              expect_status=1)
+    chk.true("different deck" in log, "a checkpoint of another deck is refused")
+    chk.finish()
+
+
+if __name__ == "__main__":
+    main()
