@@ -206,6 +206,14 @@ contains
         s%v(:, 1:s%nn) = s%v(:, 1:s%nn) + s%dt*cs%ac(:, 1:s%nn)
       end if
     end if
+    if (s%fused) then
+      ! the fused predictor already computed u_{n+1} with the uncorrected velocity: redo it
+      ! on the contact nodes (the only ones whose velocity changed)
+      do k = 1, cs%ncn
+        l = cs%lnode(k)
+        if (l > 0) s%u_next(:, l) = s%u(:, l) + s%dt*s%v(:, l)
+      end do
+    end if
   end subroutine contact_correct
 
   !> 1 + alpha_l dt/2 of owned node l (1 without damping).

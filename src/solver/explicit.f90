@@ -51,6 +51,10 @@ module ictus_solver_explicit
     real(dp) :: pw_prev = 0.0_dp
     !> Non-zero when the last mass solve failed.
     integer :: ierr = 0
+    !> u_{n+1} computed by the fused lumped-mass predictor (2, nlocal), and whether the
+    !! current step took that path (then step_finish swaps it in).
+    real(dp), allocatable :: u_next(:,:)
+    logical :: fused = .false.
   end type state_t
 
 contains
@@ -75,6 +79,7 @@ contains
     allocate(s%u(2, nl), s%v(2, nl), s%f(2, nl), s%v_old(2, nl), s%v_mid(2, nl), &
         s%mv(2, nl))
     allocate(s%a(2, nl), source=0.0_dp)
+    allocate(s%u_next(2, nl), source=0.0_dp)
     s%v_mid = 0.0_dp
     s%u = u0
     s%alpha = alpha(1:nn)
@@ -100,6 +105,13 @@ contains
     real(dp) :: dt, h, pw
     nn = s%nn
     dt = s%dt
+    s%fused = .not. (record .or. mop%consistent .or. s%damped)
+    if (s%fused) then
+      ! the common step in one pass over memory (same operations in the same order as below)
+      call fused_lumped_step(nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, s%v, &
+          s%u_next)
+      return
+    end if
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
     call mass_solve(mop, dom, s%f, s%a, s%ierr)
@@ -132,11 +144,49 @@ contains
   subroutine step_finish(s, dom)
     type(state_t), intent(inout) :: s
     type(domain_t), intent(inout) :: dom
-    s%u(:, 1:s%nn) = s%u(:, 1:s%nn) + s%dt*s%v(:, 1:s%nn)
+    real(dp), allocatable :: swap(:,:)
+    if (s%fused) then
+      ! u_next is complete on the owned nodes: exchange the arrays (no copy, no allocation)
+      call move_alloc(s%u, swap)
+      call move_alloc(s%u_next, s%u)
+      call move_alloc(swap, s%u_next)
+    else
+      s%u(:, 1:s%nn) = s%u(:, 1:s%nn) + s%dt*s%v(:, 1:s%nn)
+    end if
     call halo_exchange(dom%halo, s%u)
     s%step = s%step + 1
     s%t = s%t + s%dt
   end subroutine step_finish
+
+  !> The undamped lumped-mass predictor and the displacement update in one pass:
+  !! for each owned node i, f_i = -(K u)_i, a_i = f_i/m_i, v_i = v_i + dt a_i,
+  !! u_next_i = u_i + dt v_i. The same operations in the same order as the separate passes,
+  !! so the bits are the same; u_next must not alias u (rows read neighbours' u).
+  subroutine fused_lumped_step(n, row_ptr, col, val, inv_m, dt, u, v, u_next)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(2, 2, *), inv_m(2, n), dt
+    real(dp), intent(in) :: u(2, *)
+    real(dp), intent(inout) :: v(2, *)
+    real(dp), intent(inout) :: u_next(2, *)
+    integer :: i, k, j
+    real(dp) :: s1, s2, v1, v2
+    do i = 1, n
+      s1 = 0.0_dp
+      s2 = 0.0_dp
+      do k = row_ptr(i), row_ptr(i + 1) - 1
+        j = col(k)
+        s1 = s1 + val(1, 1, k)*u(1, j) + val(1, 2, k)*u(2, j)
+        s2 = s2 + val(2, 1, k)*u(1, j) + val(2, 2, k)*u(2, j)
+      end do
+      v1 = v(1, i) + dt*((-s1)*inv_m(1, i))
+      v2 = v(2, i) + dt*((-s2)*inv_m(2, i))
+      v(1, i) = v1
+      v(2, i) = v2
+      u_next(1, i) = u(1, i) + dt*v1
+      u_next(2, i) = u(2, i) + dt*v2
+    end do
+  end subroutine fused_lumped_step
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,
   !! recorded for time t_n. Needs s%f = -K u_n and s%v_mid set by the current step.
