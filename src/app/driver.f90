@@ -83,8 +83,8 @@ contains
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
-    call log_info('stability: omega_max = '//str(omega)//' (power iteration, '//str(iters)// &
-        ' iterations), critical time step 2/omega_max = '//str(dt_crit))
+    call log_info('stability: omega_max = '//str(omega)//' (Lanczos-accelerated power '// &
+        'iteration, '//str(iters)//' steps), critical time step 2/omega_max = '//str(dt_crit))
     ! the penalty limit of the predictor-corrector scheme (physics.md §4.4-4.5): the contact
     ! ratio r = dt^2 eps (l_s/m_s + l_m/m_m) grows like dt^2; automatic steps keep r <= 1/2
     dt_pen = huge(1.0_dp)

@@ -68,7 +68,7 @@ contains
       return
     end if
     if (abs(x) >= 0.01_dp .and. abs(x) < 1.0e5_dp) then
-      k = max(0, d - 1 - floor(log10(abs(x))))
+      k = max(1, d - 1 - floor(log10(abs(x))))
       write(fmt, '(a,i0,a,i0,a)') '(f', d + k + 4, '.', k, ')'
       write(buf, fmt) x
       r = trim(adjustl(buf))
