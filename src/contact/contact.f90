@@ -8,7 +8,7 @@
 module ictus_contact_contact
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower, str
-  use ictus_contact_surface, only: contact_surface_t, segment_shape
+  use ictus_contact_surface, only: contact_surface_t, segment_shape, MAX_SEG_NODES
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
       node_to_segment_forces
@@ -120,11 +120,18 @@ contains
     real(dp), intent(inout) :: fc(2, nn)
     real(dp), intent(out) :: energy
     real(dp), intent(inout), optional :: dm(nn)
-    integer :: k
+    integer :: k, i
     ! only surface nodes receive contact forces: zero just those (cost of the surface)
+    ! (loops, not vector subscripts: those make heap temporaries)
     do k = 1, c%nsurf
-      fc(:, c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = 0.0_dp
-      if (present(dm)) dm(c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = 0.0_dp
+      do i = 1, c%surfaces(k)%nsn
+        fc(:, c%surfaces(k)%nodes(i)) = 0.0_dp
+      end do
+      if (present(dm)) then
+        do i = 1, c%surfaces(k)%nsn
+          dm(c%surfaces(k)%nodes(i)) = 0.0_dp
+        end do
+      end if
     end do
     energy = 0.0_dp
     c%failures = 0
@@ -268,7 +275,7 @@ contains
     real(dp), intent(in) :: t, m_diag(:), eps_m
     real(dp), intent(out) :: rm
     integer, intent(out) :: gm
-    real(dp) :: rr(master%nen_max), dr(master%nen_max), ddr(master%nen_max), ra, rbest
+    real(dp) :: rr(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), ra, rbest
     integer :: a
     call segment_shape(master, s, t, rr, dr, ddr)
     rm = 0.0_dp

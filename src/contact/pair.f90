@@ -10,7 +10,7 @@
 !!   master nodes A of the closest point.
 module ictus_contact_pair
   use ictus_core_kinds, only: dp, i8, str_len
-  use ictus_contact_surface, only: contact_surface_t, segment_bbox, segment_shape
+  use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_bbox, segment_shape
   use ictus_contact_search, only: search_grid_t, grid_init, grid_build, grid_query
   use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
       PROJ_CORNER
@@ -162,7 +162,7 @@ contains
     real(dp), intent(inout), optional :: dm(:)
     type(projection_t) :: pr
     real(dp) :: xq(2), gp, tr(2), wj, sm
-    real(dp) :: rm(master%nen_max), dr(master%nen_max), ddr(master%nen_max)
+    real(dp) :: rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
     integer :: q, s, a, g, nf
     do q = 1, slave%ngp
       s = slave%gp_seg(q)
@@ -248,7 +248,7 @@ contains
     real(dp), intent(inout) :: fc(:,:)
     real(dp), intent(inout), optional :: dm(:)
     type(projection_t) :: pr
-    real(dp) :: xs(2), gp, fs(2), r(s2%nen_max), dr(s2%nen_max), ddr(s2%nen_max), sm
+    real(dp) :: xs(2), gp, fs(2), r(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), sm
     integer :: k, g, a, nf
     call pair_reset_results(pair)
     call update_grid(s2, x, pair%radius, pair%grid_second)

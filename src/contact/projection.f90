@@ -14,7 +14,7 @@
 !! (counter-clockwise) master; penetration gp = max(0, -d).
 module ictus_contact_projection
   use ictus_core_kinds, only: dp
-  use ictus_contact_surface, only: contact_surface_t, segment_geometry
+  use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_geometry
   implicit none
   private
   public :: projection_t, project_on_segment, project_point, &
@@ -59,7 +59,7 @@ contains
     real(dp), intent(in) :: x(:,:), xs(2)
     real(dp), intent(out) :: t
     integer, intent(out) :: status, iters
-    real(dp) :: xp(2), x1(2), x2(2), r(surf%nen_max), rv(2)
+    real(dp) :: xp(2), x1(2), x2(2), r(MAX_SEG_NODES), rv(2)
     real(dp) :: a, b, f, fp, tn, dist, best, ell, jac, tk
     integer :: k, it
     ell = max(surf%seg_len(s), tiny(1.0_dp))
@@ -215,7 +215,7 @@ contains
     type(contact_surface_t), intent(in) :: surf
     real(dp), intent(in) :: x(:,:), xs(2), t
     integer, intent(in) :: s
-    real(dp) :: xp(2), x1(2), x2(2), r(surf%nen_max)
+    real(dp) :: xp(2), x1(2), x2(2), r(MAX_SEG_NODES)
     call segment_geometry(surf, s, x, t, xp, x1, x2, r)
     f = dot_product(xs - xp, x1)
   end function f_at
@@ -227,7 +227,7 @@ contains
     real(dp), intent(in) :: x(:,:), xs(2), t
     integer, intent(in) :: s, nb, status
     type(projection_t), intent(out) :: res
-    real(dp) :: xp(2), x1(2), x2(2), r(surf%nen_max), n(2), y1(2), jn
+    real(dp) :: xp(2), x1(2), x2(2), r(MAX_SEG_NODES), n(2), y1(2), jn
     call segment_geometry(surf, s, x, t, xp, x1, x2, r)
     n = [x1(2), -x1(1)]
     jn = norm2(n)

@@ -17,11 +17,16 @@ module ictus_contact_surface
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
   use ictus_elements_lagrange, only: lagrange_face_nodes
   use ictus_geometry_patch, only: patch_t, patch_point, patch_side_elements, patch_elem_ij
+  use ictus_core_errors, only: input_error
   implicit none
   private
   public :: contact_surface_t, SEG_LAGRANGE, SEG_BEZIER, surface_init, surface_free, &
       segment_shape, segment_geometry, segment_bbox, face_segment, element_area, &
-      patch_side_segments, reverse_segment
+      patch_side_segments, reverse_segment, MAX_SEG_NODES
+
+  !> Largest number of nodes of a segment (degree 15): the size of the fixed local arrays
+  !! of the contact kernels, so that a contact step allocates nothing.
+  integer, parameter :: MAX_SEG_NODES = 16
 
   !> Segment kinds.
   integer, parameter :: SEG_LAGRANGE = 1, SEG_BEZIER = 2
@@ -88,6 +93,8 @@ contains
     this%name = name
     this%nseg = ns
     this%nen_max = nm
+    if (nm > MAX_SEG_NODES) call input_error('*SURFACE '//trim(name), 'contact segments '// &
+        'of more than 16 nodes (degree > 15) are not supported')
     this%kind = kinds
     this%nen = nens
     allocate(this%conn(nm, ns), this%wgt(nm, ns), this%ext(nm, nm, ns), this%elem(ns))
@@ -191,7 +198,7 @@ contains
     integer, intent(in) :: s
     real(dp), intent(in) :: x0(:,:)
     real(dp), intent(out) :: xe(2, 2)
-    real(dp) :: x1(2), x2(2), r(this%nen_max)
+    real(dp) :: x1(2), x2(2), r(MAX_SEG_NODES)
     call segment_geometry(this, s, x0, 0.0_dp, xe(:, 1), x1, x2, r)
     call segment_geometry(this, s, x0, 1.0_dp, xe(:, 2), x1, x2, r)
   end subroutine end_points
@@ -202,7 +209,7 @@ contains
     real(dp), intent(in) :: x0(:,:)
     integer, intent(in), optional :: ngauss(:)
     integer :: ng(this%nseg), s, q, m, a
-    real(dp) :: xi(32), w(32), xq(2), x1(2), x2(2), r(this%nen_max), wj
+    real(dp) :: xi(32), w(32), xq(2), x1(2), x2(2), r(MAX_SEG_NODES), wj
     do s = 1, this%nseg
       ! default: 2 points on a linear edge, 3 on a quadratic one, p + 1 on a Bezier span
       ng(s) = this%nen(s)
@@ -262,7 +269,7 @@ contains
     integer, intent(in) :: s
     real(dp), intent(in) :: x(:,:), t
     real(dp), intent(out) :: xp(2), x1(2), x2(2), r(:)
-    real(dp) :: dr(this%nen_max), ddr(this%nen_max)
+    real(dp) :: dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
     integer :: a, g
     call segment_shape(this, s, t, r, dr, ddr)
     xp = 0.0_dp
@@ -328,7 +335,7 @@ contains
     integer, intent(in) :: ld, p
     real(dp), intent(in) :: c(ld, ld), w(ld), t
     real(dp), intent(out) :: r(:), dr(:), ddr(:)
-    real(dp) :: b(p+1), db(p+1), ddb(p+1), n0, n1, n2
+    real(dp) :: b(MAX_SEG_NODES), db(MAX_SEG_NODES), ddb(MAX_SEG_NODES), n0, n1, n2
     real(dp) :: ww, w1, w2
     integer :: a, j
     call bernstein2(p, t, b, db, ddb)
@@ -364,7 +371,7 @@ contains
     integer, intent(in) :: p
     real(dp), intent(in) :: t
     real(dp), intent(out) :: b(p+1), db(p+1), ddb(p+1)
-    real(dp) :: b1(0:p+1), b2(0:p+1)
+    real(dp) :: b1(0:MAX_SEG_NODES), b2(0:MAX_SEG_NODES)
     integer :: i
     ! b1: degree p-1 at 1..p (zero padded), b2: degree p-2 at 1..p-1
     call bernstein_values(p, t, b)

@@ -142,7 +142,10 @@ contains
       if (l > 0) cs%buf(:, k) = x0(:, cs%cnode(k)) + scale*val(:, l)
     end do
     call allreduce_sum(cs%buf)
-    cs%xg(:, cs%cnode) = cs%buf
+    ! a loop, not cs%xg(:, cs%cnode) = cs%buf: a vector subscript makes a heap temporary
+    do k = 1, cs%ncn
+      cs%xg(:, cs%cnode(k)) = cs%buf(:, k)
+    end do
   end subroutine gather_contact_nodes
 
   !> Contact forces on u_pre = u_n + dt v_pre and the velocity correction. Also stores the
@@ -239,7 +242,10 @@ contains
       if (l > 0) cs%buf(:, k) = x0(:, cs%cnode(k)) + (s%u(:, l) + s%dt*s%v(:, l))
     end do
     call allreduce_sum(cs%buf)
-    cs%xg(:, cs%cnode) = cs%buf
+    ! a loop, not cs%xg(:, cs%cnode) = cs%buf: a vector subscript makes a heap temporary
+    do k = 1, cs%ncn
+      cs%xg(:, cs%cnode(k)) = cs%buf(:, k)
+    end do
     if (cs%bipenalty) then
       call contact_forces(c, size(x0, 2), cs%xg, cs%fcg, energy, cs%dmg)
     else
