@@ -1,0 +1,423 @@
+#!/usr/bin/python3
+"""The performance benchmark of ictus (doc/performance.md).
+
+    scripts/benchmark.py [--quick] [--sizes 1e4,1e5,1e6] [--no-build] [--build-dir DIR]
+                         [--work DIR] [--repeat R] [--steps N] [--no-mpi] [--cases LIST]
+
+Builds Release (scripts/setup.sh Release, unless --no-build), generates decks of growing size
+in a scratch directory (square meshes of about `size` elements: Q8 with HRZ lumping or a
+consistent mass, one p = 2 NURBS patch with row-sum lumping or a consistent mass, and the same
+square cut into two stacked blocks pressed together by a *CONTACT PAIR), runs
+build/bin/ictus-bench on each (and `mpirun -np 2` on the largest lumped meshes) and prints:
+
+- per case and size: ns per element per step for the whole step and its phases (stiffness
+  product K u, contact search and forces, mass solve, vector updates), the effective
+  bandwidth of K u (bytes of the matrix and vectors it must move once / time), the STREAM
+  triad bandwidth measured in the same run, and the ratios to it;
+- the targets of doc/performance.md with the measured value and a verdict.
+
+The time step is the automatic one (0.9 * 2/omega_max, computed by ictus-bench) and the
+bench starts from a rough velocity field, so a consistent-mass solve does the work it does in
+a run. Timings are medians of --repeat sets (ictus-bench --repeat). Nothing is written but
+the decks; no timing is asserted (the CTest smoke test only checks that the table appears).
+"""
+import argparse
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+E, NU, RHO = 1000.0, 0.3, 1.0
+CASES = ["q8", "q8-consistent", "q8-contact", "iga", "iga-consistent", "iga-contact"]
+
+
+# ---------------------------------------------------------------- decks
+
+def header(title, mass):
+    return (f"*HEADING\n{title}\n*ANALYSIS, TYPE=PLANE STRAIN, THICKNESS=1\n"
+            f"*MATERIAL, NAME=MAT\n*ELASTIC\n{E}, {NU}\n*DENSITY\n{RHO}\n"), f"*MASS, TYPE={mass}\n"
+
+
+def step_cards(dt=0.0, t_end=1.0):
+    # dt = 0: ictus-bench takes the automatic step 0.9 * 2/omega_max; no output is asked for
+    return (f"*STEP\n*DYNAMIC, EXPLICIT\n{dt!r}, {t_end!r}\n*OUTPUT, HISTORY, EVERY=100000000\n"
+            "*OUTPUT, FIELD, EVERY=100000000\n*END STEP\n")
+
+
+def q8_block(f, name, nx, ny, x0, y0, lx, ly, first_node, first_el):
+    """Writes the *NODE and *ELEMENT cards of an nx x ny Q8 rectangle (numpy, fast) plus the
+    node sets <name>_BOTTOM and <name>_LL. Returns (next node id, next element id, element
+    ids of the bottom row, of the top row)."""
+    mx, my = 2 * nx, 2 * ny
+    jj, ii = np.meshgrid(np.arange(my + 1), np.arange(mx + 1), indexing="ij")
+    keep = ~((ii % 2 == 1) & (jj % 2 == 1))
+    idx = -np.ones((my + 1, mx + 1), dtype=np.int64)
+    idx[keep] = first_node + np.arange(int(keep.sum()))
+    xs = x0 + ii[keep] * (lx / mx)
+    ys = y0 + jj[keep] * (ly / my)
+    f.write("*NODE\n")
+    np.savetxt(f, np.column_stack([idx[keep], xs, ys]), fmt="%d, %.15g, %.15g")
+    ey, ex = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
+    i, j = (2 * ex).ravel(), (2 * ey).ravel()
+    conn = np.column_stack([idx[j, i], idx[j, i + 2], idx[j + 2, i + 2], idx[j + 2, i],
+                            idx[j, i + 1], idx[j + 1, i + 2], idx[j + 2, i + 1], idx[j + 1, i]])
+    eids = first_el + np.arange(nx * ny)
+    f.write(f"*ELEMENT, TYPE=Q8, ELSET={name}, MATERIAL=MAT\n")
+    np.savetxt(f, np.column_stack([eids, conn]), fmt="%d")
+    f.write(f"*NSET, NSET={name}_BOTTOM\n")
+    np.savetxt(f, idx[0, :].reshape(-1, 1), fmt="%d")
+    f.write(f"*NSET, NSET={name}_LL\n{idx[0, 0]}\n")
+    return int(idx.max()) + 1, int(eids[-1]) + 1, eids[:nx], eids[-nx:]
+
+
+def iga_block(f, name, n1, n2, x0, y0, lx, ly):
+    """A p = 2 NURBS patch of the rectangle refined to n1 x n2 spans, with node sets
+    <name>_BOTTOM (side ETA0) and surfaces <name>_TOP/_BOTTOM (sides ETA1/ETA0)."""
+    f.write(f"*PATCH, NAME={name}, MATERIAL=MAT, DEGREE=2,2, SIZE=3,3\n"
+            "*KNOTS, DIRECTION=1\n0 0 0 1 1 1\n*KNOTS, DIRECTION=2\n0 0 0 1 1 1\n"
+            "*CONTROL POINTS\n")
+    for j in range(3):
+        for i in range(3):
+            f.write(f"{x0 + lx * i / 2!r}, {y0 + ly * j / 2!r}, 1.0\n")
+    f.write(f"*REFINE, PATCH={name}, SUBDIVIDE={n1},{n2}\n"
+            f"*NSET, NSET={name}_BOTTOM, PATCH={name}, SIDE=ETA0\n"
+            f"*SURFACE, NAME={name}_TOP, PATCH={name}, SIDE=ETA1\n"
+            f"*SURFACE, NAME={name}_BOTTOM, PATCH={name}, SIDE=ETA0\n")
+
+
+def side(n):
+    """Elements per side of a square mesh of about n elements (even: two blocks of n/2)."""
+    return max(2, 2 * round(math.sqrt(n) / 2))
+
+
+def write_deck(path, case, size, dt=0.0, t_end=1.0):
+    """Writes the deck of `case` at about `size` elements (time step dt, 0: automatic);
+    returns the number of elements."""
+    n = side(size)
+    h = 1.0 / n
+    disc, _, rest = case.partition("-")
+    consistent = rest == "consistent"
+    contact = rest == "contact"
+    lumped = "HRZ" if disc == "q8" else "ROW SUM"
+    head, mass = header(f"benchmark {case} {n} x {n}", "CONSISTENT" if consistent else lumped)
+    # contact: the upper block overlaps the lower one by 1 % of an element; penalty
+    # eps = 0.1 E/h keeps the penalty ratio r = eps dt^2 (l_s/m_s + l_m/m_m) far below 1/2
+    overlap = 0.01 * h
+    eps = 0.1 * E / h
+    with open(path, "w") as f:
+        f.write(head)
+        if disc == "q8" and not contact:
+            q8_block(f, "BODY", n, n, 0.0, 0.0, 1.0, 1.0, 1, 1)
+            f.write("*BOUNDARY\nBODY_BOTTOM, 2, 2\nBODY_LL, 1, 1\n")
+        elif disc == "q8":
+            nn, ne, _, top = q8_block(f, "LO", n, n // 2, 0.0, 0.0, 1.0, 0.5, 1, 1)
+            _, _, bottom, _ = q8_block(f, "UP", n, n // 2, 0.0, 0.5 - overlap, 1.0, 0.5, nn, ne)
+            f.write("*SURFACE, NAME=LO_TOP, TYPE=ELEMENT\n")
+            np.savetxt(f, top.reshape(-1, 1), fmt="%d, S3")
+            f.write("*SURFACE, NAME=UP_BOTTOM, TYPE=ELEMENT\n")
+            np.savetxt(f, bottom.reshape(-1, 1), fmt="%d, S1")
+            f.write("*BOUNDARY\nLO_BOTTOM, 2, 2\nLO_LL, 1, 1\n")
+            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}\nLO_TOP, UP_BOTTOM\n")
+        elif not contact:
+            iga_block(f, "BODY", n, n, 0.0, 0.0, 1.0, 1.0)
+            f.write("*BOUNDARY\nBODY_BOTTOM, 2, 2\n1, 1, 1\n")
+        else:
+            iga_block(f, "LO", n, n // 2, 0.0, 0.0, 1.0, 0.5)
+            iga_block(f, "UP", n, n // 2, 0.0, 0.5 - overlap, 1.0, 0.5)
+            f.write("*BOUNDARY\nLO_BOTTOM, 2, 2\n1, 1, 1\n")
+            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}\nLO_TOP, UP_BOTTOM\n")
+        f.write(mass)
+        f.write(step_cards(dt, t_end))
+    return n * n
+
+
+# ---------------------------------------------------------------- runs
+
+def parse_bench(out):
+    line = [ln for ln in out.splitlines() if ln.startswith("BENCH ")]
+    if not line:
+        raise RuntimeError("ictus-bench printed no BENCH line:\n" + out)
+    d = {}
+    for k, v in re.findall(r"(\w+)=\s*(\S+)", line[-1]):
+        d[k] = v == "T" if v in ("T", "F") else float(v)
+    return d
+
+
+def run_bench(args, deck, nel, consistent, ranks=1):
+    # about 0.2-2 s per timed phase; a consistent-mass step costs tens of K u products
+    steps = args.steps or (int(min(50, max(3, 5.0e5 / nel))) if consistent else
+                           int(min(400, max(10, 2.0e7 / nel))))
+    cmd = [os.path.join(args.build_dir, "bin", "ictus-bench"), deck, "--steps", str(steps),
+           "--repeat", str(args.repeat), "--stream-mb", str(args.stream_mb)]
+    env = dict(os.environ)
+    if ranks > 1:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        cmd = [args.mpirun, "--oversubscribe", "-np", str(ranks)] + cmd
+    t0 = time.time()
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
+    d = parse_bench(p.stdout)
+    d["wall"] = time.time() - t0
+    return d
+
+
+def ns_el(d, key):
+    return 1e9 * d[key] / d["nel"]
+
+
+def row(case, ranks, d):
+    gbs = d["bytes_kmv"] / d["t_kmv"] / 1e9
+    stream = d["stream"] / 1e9
+    cp = d["contact_points"]
+    return [f"{case}{'' if ranks == 1 else ' np=2'}", f"{int(d['nel']):d}",
+            f"{int(2 * d['nodes']):d}",
+            f"{int(d['steps']):d}",
+            f"{ns_el(d, 't_step'):.1f}", f"{ns_el(d, 't_kmv'):.1f}",
+            f"{ns_el(d, 't_contact'):.2f}" if cp else "-",
+            f"{ns_el(d, 't_mass'):.1f}", f"{ns_el(d, 't_update'):.1f}",
+            f"{gbs:.1f}", f"{stream:.1f}", f"{gbs / stream:.2f}",
+            f"{d['t_step'] / d['t_kmv']:.2f}",
+            f"{ns_el(d, 't_kmv_split'):.1f}",
+            f"{d['bytes_kmv'] / d['t_kmv_split'] / d['stream']:.2f}",
+            f"{d['mass_iter']:.1f}" if d["consistent"] else "-",
+            f"{1e9 * d['t_contact'] / cp:.0f}" if cp else "-"]
+
+
+HEAD = ["case", "elements", "dofs", "steps", "step", "K u", "contact", "mass", "update",
+        "K u GB/s", "STREAM GB/s", "K u/STREAM", "step/K u", "K u split", "split/STREAM",
+        "CG it", "contact ns/point"]
+
+
+def print_table(rows):
+    w = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(HEAD)]
+    print("| " + " | ".join(h.rjust(w[i]) for i, h in enumerate(HEAD)) + " |")
+    print("|" + "|".join("-" * (x + 1) + ":" for x in w) + "|")
+    for r in rows:
+        print("| " + " | ".join(c.rjust(w[i]) for i, c in enumerate(r)) + " |")
+
+
+def slope(xs, ys):
+    lx, ly = np.log(np.asarray(xs, float)), np.log(np.asarray(ys, float))
+    return float(np.polyfit(lx, ly, 1)[0])
+
+
+def verdicts(res, np2):
+    """The targets of doc/performance.md: (target, measured, verdict) rows."""
+    out = []
+
+    def add(target, measured, ok):
+        out.append((target, measured, "met" if ok else "MISSED"))
+
+    for disc in ("q8", "iga"):
+        runs = res.get(disc, {})
+        if not runs:
+            continue
+        big = max(runs)
+        d = runs[big]
+        bw = d["bytes_kmv"] / d["t_kmv"] / d["stream"]
+        add(f"{disc}: K u >= 70 % of STREAM triad (largest mesh, {int(d['nel'])} el.)",
+            f"{100 * bw:.0f} %", bw >= 0.70)
+        worst = max(runs.values(), key=lambda d: d["t_step"] / d["t_kmv"])
+        r = worst["t_step"] / worst["t_kmv"]
+        add(f"{disc}: lumped step <= 1.3 x K u (worst size, {int(worst['nel'])} el.)",
+            f"{r:.2f} x", r <= 1.3)
+        cons = res.get(disc + "-consistent", {})
+        common = sorted(set(cons) & set(runs))
+        if common:
+            worst = max(common, key=lambda s: cons[s]["t_step"] / runs[s]["t_step"])
+            r = cons[worst]["t_step"] / runs[worst]["t_step"]
+            add(f"{disc}: consistent step <= 2 x lumped step (worst size, "
+                f"{int(runs[worst]['nel'])} el.; CG {cons[worst]['mass_iter']:.1f} it./solve)",
+                f"{r:.2f} x", r <= 2.0)
+        con = res.get(disc + "-contact", {})
+        if len(con) >= 2:
+            sizes = sorted(con)
+            per = [con[s]["t_contact"] / con[s]["contact_points"] for s in sizes]
+            grow = con[sizes[-1]]["contact_points"] / con[sizes[0]]["contact_points"]
+            spread = max(per) / min(per)
+            add(f"{disc}: contact cost per point flat within 30 % (surface grows "
+                f"{grow:.1f} x)", f"max/min {spread:.2f} ({1e9 * min(per):.0f}-"
+                f"{1e9 * max(per):.0f} ns/point)", spread <= 1.3)
+        for c in (disc, disc + "-contact"):
+            runs_c = res.get(c, {})
+            if len(runs_c) >= 2:
+                sizes = sorted(runs_c)
+                s = slope([runs_c[k]["nel"] for k in sizes], [runs_c[k]["t_step"] for k in sizes])
+                add(f"{c}: whole step linear in elements, log-log slope 1 +- 0.1 "
+                    f"({int(runs_c[sizes[0]]['nel'])}-{int(runs_c[sizes[-1]]['nel'])} el.)",
+                    f"{s:.3f}", abs(s - 1.0) <= 0.1)
+                big = [k for k in sizes if k >= 5e4]
+                if 2 <= len(big) < len(sizes):
+                    s = slope([runs_c[k]["nel"] for k in big], [runs_c[k]["t_step"] for k in big])
+                    out.append((f"{c}: the same, meshes beyond the caches only "
+                                f"({int(runs_c[big[0]]['nel'])}-{int(runs_c[big[-1]]['nel'])} "
+                                "el.)", f"{s:.3f}", "reported"))
+    for c, (d1, d2) in np2.items():
+        out.append((f"{c}: speed-up np = 2 / np = 1 of the whole step ({int(d1['nel'])} el.)",
+                    f"{d1['t_step'] / d2['t_step']:.2f} x (K u {d1['t_kmv'] / d2['t_kmv']:.2f} x, "
+                    f"STREAM {d2['stream'] / d1['stream']:.2f} x)", "reported"))
+    return out
+
+
+def loadavg():
+    try:
+        with open("/proc/loadavg") as f:
+            return float(f.read().split()[0])
+    except OSError:
+        return 0.0
+
+
+def build(args):
+    env = dict(os.environ, BUILD_DIR=args.build_dir)
+    print(f"benchmark: building Release in {args.build_dir} (scripts/setup.sh Release)", flush=True)
+    subprocess.run(["bash", os.path.join(HERE, "setup.sh"), "Release"], check=True, env=env)
+
+
+def build_type(build_dir):
+    try:
+        with open(os.path.join(build_dir, "CMakeCache.txt")) as f:
+            m = re.search(r"^CMAKE_BUILD_TYPE:\w+=(\w*)", f.read(), re.M)
+            return m.group(1) if m else ""
+    except OSError:
+        return ""
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="sizes 1e4 and 1e5 (smoke run)")
+    ap.add_argument("--sizes", help="comma-separated element counts (default 1e4,1e5,1e6)")
+    ap.add_argument("--no-build", action="store_true", help="use the existing build")
+    ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    ap.add_argument("--work", help="scratch directory for the decks (default: a temporary one)")
+    ap.add_argument("--repeat", type=int, default=3, help="timing sets per run (median)")
+    ap.add_argument("--steps", type=int, default=0, help="steps per timing (default by size)")
+    ap.add_argument("--stream-mb", type=int, default=768, help="STREAM triad arrays, MB in all")
+    ap.add_argument("--no-mpi", action="store_true", help="skip the np = 2 runs")
+    ap.add_argument("--cases", default=",".join(CASES), help="subset of " + ",".join(CASES))
+    ap.add_argument("--alloc-check", action="store_true",
+                    help="also count the heap allocations of ictus runs of 100 and 1000 steps")
+    args = ap.parse_args()
+    sizes = [int(float(s)) for s in (args.sizes or ("1e4,1e5" if args.quick else
+                                                     "1e4,1e5,1e6")).split(",")]
+    cases = [c for c in args.cases.split(",") if c]
+    for c in cases:
+        if c not in CASES:
+            ap.error(f"unknown case {c}")
+    args.build_dir = os.path.abspath(args.build_dir)
+    if not args.no_build:
+        build(args)
+    bench = os.path.join(args.build_dir, "bin", "ictus-bench")
+    if not os.access(bench, os.X_OK):
+        sys.exit(f"benchmark: {bench} not found (build it, or drop --no-build)")
+    bt = build_type(args.build_dir)
+    if bt != "Release":
+        print(f"benchmark: WARNING: {args.build_dir} is a {bt or 'unknown'} build; the figures "
+              "are only meaningful for Release", flush=True)
+    args.mpirun = shutil.which("mpirun")
+    work = args.work or tempfile.mkdtemp(prefix="ictus-bench-")
+    os.makedirs(work, exist_ok=True)
+    print(f"benchmark: decks in {work}; sizes {sizes}; cases {cases}", flush=True)
+    load0 = loadavg()
+    res, rows, np2 = {}, [], {}
+    for case in cases:
+        dt0 = None
+        for size in sorted(sizes):
+            deck = os.path.join(work, f"{case}-{size}.inp")
+            t0 = time.time()
+            # the smallest mesh takes the automatic step (omega_max by Lanczos in ictus-bench);
+            # omega_max of these uniform meshes scales as 1/h, so the larger ones get
+            # 0.99 dt0 h/h0 (a Lanczos run with a consistent mass would cost minutes at 1e6)
+            dt = 0.0 if dt0 is None else 0.99 * dt0[0] * dt0[1] / side(size)
+            nel = write_deck(deck, case, size, dt)
+            tgen = time.time() - t0
+            d = run_bench(args, deck, nel, "consistent" in case)
+            if dt0 is None:
+                dt0 = (d["dt"], side(size))
+            res.setdefault(case, {})[nel] = d
+            rows.append(row(case, 1, d))
+            print(f"  {case:15s} {nel:8d} el.: step {ns_el(d, 't_step'):7.1f} ns/el, "
+                  f"K u {ns_el(d, 't_kmv'):7.1f} ns/el (deck {tgen:.1f} s, run {d['wall']:.1f} s)",
+                  flush=True)
+            if ranks2(args, case, size, sizes):
+                d2 = run_bench(args, deck, nel, False, ranks=2)
+                np2[case] = (d, d2)
+                rows.append(row(case, 2, d2))
+                print(f"  {case:15s} {nel:8d} el., np = 2: step {ns_el(d2, 't_step'):7.1f} ns/el",
+                      flush=True)
+            if not args.work and size > 2e5:
+                os.remove(deck)
+    load1 = loadavg()
+    print()
+    print(f"load average (1 min) at the start {load0:.2f}, at the end {load1:.2f} on "
+          f"{os.cpu_count()} CPUs (this benchmark adds about 1, 2 during the np = 2 runs)")
+    if max(load0, load1) > 1.5:
+        print("benchmark: WARNING: other processes were running; timings are not reliable")
+    print("ns per element per step (medians of "
+          f"{args.repeat}); bandwidths in GB/s; K u bytes = blocks (32 B + 4 B column index) "
+          "+ row pointers + u read + K u written, once")
+    print_table(rows)
+    print()
+    print("| target | measured | verdict |")
+    print("|---|---:|---|")
+    for t, m, v in verdicts(res, np2):
+        print(f"| {t} | {m} | {v} |")
+    if args.alloc_check:
+        alloc_check(args, work, cases)
+    if not args.work:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def alloc_check(args, work, cases, n1=100, n2=1000):
+    """Runs `ictus` (output off) for n1 and n2 steps on 20 x 20 meshes of each case with a
+    malloc counter preloaded (scripts/malloc_count.c) and prints the allocations of the
+    process: the time loop allocates nothing when the counts do not grow with the steps."""
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        print("alloc-check: no C compiler (cc), skipped")
+        return
+    so = os.path.join(work, "malloc_count.so")
+    subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", so,
+                    os.path.join(HERE, "malloc_count.c")], check=True)
+    ictus = os.path.join(args.build_dir, "bin", "ictus")
+    print()
+    print(f"allocations of the ictus process (malloc + calloc + realloc; LD_PRELOAD "
+          f"scripts/malloc_count.c), 20 x 20 meshes, output off, dt = 1e-4")
+    print(f"| case | {n1} steps | {n2} steps | per extra step |")
+    print("|---|---:|---:|---:|")
+    for case in cases:
+        counts = []
+        for n in (n1, n2):
+            deck = os.path.join(work, f"alloc-{case}-{n}.inp")
+            write_deck(deck, case, 400, 1.0e-4, n * 1.0e-4)
+            out = os.path.join(work, f"alloc-{case}-{n}.txt")
+            if os.path.exists(out):
+                os.remove(out)
+            env = dict(os.environ, LD_PRELOAD=so, MALLOC_COUNT_OUT=out)
+            p = subprocess.run([ictus, deck, "-o", deck.replace(".inp", ".h5")], env=env,
+                               capture_output=True, text=True)
+            if p.returncode != 0:
+                raise RuntimeError(f"ictus {deck} failed:\n{p.stdout}\n{p.stderr}")
+            with open(out) as f:
+                line = [ln for ln in f if ln.startswith("ictus ")][-1]
+            c = dict(kv.split("=") for kv in line.split()[2:])
+            counts.append(int(c["malloc"]) + int(c["calloc"]) + int(c["realloc"]))
+        print(f"| {case} | {counts[0]} | {counts[1]} | {(counts[1] - counts[0]) / (n2 - n1):.2f} |")
+
+
+def ranks2(args, case, size, sizes):
+    return (not args.no_mpi and args.mpirun is not None and size == max(sizes)
+            and case in ("q8", "iga"))
+
+
+if __name__ == "__main__":
+    main()
