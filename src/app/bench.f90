@@ -18,6 +18,7 @@
 program ictus_bench
   use, intrinsic :: iso_fortran_env, only: output_unit
   use ictus_core_kinds, only: dp, i8
+  use ictus_core_strings, only: command_arg
   use ictus_core_errors, only: error_count, terminate, input_error
   use ictus_core_timer, only: wall_time
   use ictus_parallel_env, only: env_init, env_finalize, env_is_root, env_size, allreduce_max, &
@@ -62,20 +63,20 @@ program ictus_bench
   i = 0
   do while (i < command_argument_count())
     i = i + 1
-    arg = argument(i)
+    arg = command_arg(i)
     select case (arg)
     case ('--steps')
       i = i + 1
-      arg = argument(i)
+      arg = command_arg(i)
       read(arg, *) nsteps
     case ('--repeat')
       i = i + 1
-      arg = argument(i)
+      arg = command_arg(i)
       read(arg, *) nrep
       nrep = max(1, nrep)
     case ('--stream-mb')
       i = i + 1
-      arg = argument(i)
+      arg = command_arg(i)
       read(arg, *) stream_mb
     case default
       path = arg
@@ -281,14 +282,6 @@ contains
     median = 0.5_dp*(y((b + 1)/2) + y(b/2 + 1))
   end function median
 
-  function argument(k) result(a)
-    integer, intent(in) :: k
-    character(len=:), allocatable :: a
-    integer :: length
-    call get_command_argument(k, length=length)
-    allocate(character(len=length) :: a)
-    call get_command_argument(k, a)
-  end function argument
 
   !> STREAM triad a = b + q c on three arrays of mb/3 MB each, best of 10, in bytes per second
   !! (24 bytes per element, the STREAM convention). All ranks run it at once.

@@ -8,6 +8,7 @@
 program ictus
   use, intrinsic :: iso_fortran_env, only: output_unit
   use ictus_core_kinds, only: dp
+  use ictus_core_strings, only: command_arg
   use ictus_core_errors, only: input_error, terminate
   use ictus_core_logger, only: log_set_level, LOG_QUIET, LOG_VERBOSE_LEVEL
   use ictus_core_build_info, only: ictus_version, ictus_build_type
@@ -24,7 +25,7 @@ program ictus
   i = 0
   do while (i < n)
     i = i + 1
-    arg = argument(i)
+    arg = command_arg(i)
     select case (arg)
     case ('-h', '--help')
       if (env_is_root()) call usage()
@@ -46,14 +47,14 @@ program ictus
         call terminate(1)
       end if
       i = i + 1
-      opt%restart_path = argument(i)
+      opt%restart_path = command_arg(i)
     case ('--wall-time')
       if (i == n) then
         call input_error('command line', '--wall-time needs a number of seconds')
         call terminate(1)
       end if
       i = i + 1
-      arg = argument(i)
+      arg = command_arg(i)
       read(arg, *, iostat=ios) opt%wall_time
       if (ios /= 0 .or. .not. opt%wall_time > 0.0_dp) then
         call input_error('command line', '--wall-time needs a positive number of seconds, '// &
@@ -66,7 +67,7 @@ program ictus
         call terminate(1)
       end if
       i = i + 1
-      opt%out_path = argument(i)
+      opt%out_path = command_arg(i)
     case default
       if (arg(1:1) == '-' .and. len(arg) > 1) then
         call input_error('command line', 'unknown option '//arg//' (see ictus --help)')
@@ -97,14 +98,6 @@ program ictus
 
 contains
 
-  function argument(k) result(a)
-    integer, intent(in) :: k
-    character(len=:), allocatable :: a
-    integer :: length
-    call get_command_argument(k, length=length)
-    allocate(character(len=length) :: a)
-    call get_command_argument(k, a)
-  end function argument
 
   subroutine usage()
     write(output_unit, '(a)') 'usage: ictus deck.inp [-o results.h5] [--check] [--restart F]'

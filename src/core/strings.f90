@@ -3,7 +3,7 @@ module ictus_core_strings
   use ictus_core_kinds, only: dp, i8
   implicit none
   private
-  public :: upper, lower, str, join_ids
+  public :: upper, lower, str, join_ids, command_arg
 
   !> Converts a number to its shortest readable text.
   interface str
@@ -99,4 +99,13 @@ contains
     end do
     if (size(ids) > max_shown) r = r//' and '//str_int(size(ids) - max_shown)//' more'
   end function join_ids
+  !> Command-line argument k, whatever its length.
+  function command_arg(k) result(a)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: a
+    integer :: length
+    call get_command_argument(k, length=length)
+    allocate(character(len=length) :: a)
+    call get_command_argument(k, a)
+  end function command_arg
 end module ictus_core_strings
