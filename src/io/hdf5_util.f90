@@ -13,13 +13,13 @@ module ictus_io_hdf5_util
       h5sget_simple_extent_dims_f, h5sget_simple_extent_ndims_f, h5sselect_elements_f, &
       h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
       h5tset_size_f, h5tclose_f, h5lexists_f, h5fopen_f, h5dread_f, h5aopen_f, h5aread_f, &
-      h5adelete_f, h5aexists_f, h5aget_type_f, h5tget_size_f, h5ldelete_f, &
+      h5adelete_f, h5aexists_f, h5eset_auto_f, h5aget_type_f, h5tget_size_f, h5ldelete_f, &
       H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
       H5P_DATASET_CREATE_F, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, H5FD_MPIO_COLLECTIVE_F, &
       H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
       H5T_NATIVE_CHARACTER, H5F_SCOPE_GLOBAL_F
   use ictus_core_kinds, only: dp
-  use ictus_core_errors, only: fatal
+  use ictus_core_errors, only: fatal, input_error, terminate
   use ictus_parallel_env, only: env_comm_f, env_info_null_f, env_is_root
   implicit none
   private
@@ -66,6 +66,8 @@ contains
     integer :: err
     call h5open_f(err)
     call check(err, 'h5open')
+    ! every status is checked here; HDF5's own error stack would only repeat it at length
+    call h5eset_auto_f(0, err)
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
     call check(err, 'h5pcreate fapl')
     call h5pset_fapl_mpio_f(fapl, env_comm_f(), env_info_null_f(), err)
@@ -74,7 +76,11 @@ contains
     call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, err)
     call check(err, 'h5pset_libver_bounds')
     call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, err, access_prp=fapl)
-    call check(err, 'creating '//trim(path))
+    if (err < 0) then
+      call input_error(path, 'cannot create this results file (does its directory exist, '// &
+          'and may it be written?)')
+      call terminate(1)
+    end if
     call h5pclose_f(fapl, err)
     call make_dxpl()
   end subroutine h5u_create_file
@@ -104,6 +110,7 @@ contains
     inquire(file=path, exist=exists)
     if (.not. exists) return
     call h5open_f(err)
+    call h5eset_auto_f(0, err)
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
     call h5pset_fapl_mpio_f(fapl, env_comm_f(), env_info_null_f(), err)
     call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, err)
@@ -112,8 +119,12 @@ contains
     else
       call h5fopen_f(path, H5F_ACC_RDONLY_F, file_id, err, access_prp=fapl)
     end if
+    ok = err >= 0
     call h5pclose_f(fapl, err)
-    if (err < 0) return
+    if (.not. ok) then
+      file_id = -1
+      return
+    end if
     ok = .true.
     call make_dxpl()
   end subroutine h5u_open_file

@@ -96,6 +96,18 @@ def main():
                               extra=["--restart", os.path.join(args.work, "periodic.chk.h5")],
                               expect_status=1)
     chk.true("different deck" in log, "a checkpoint of another deck is refused")
+    # a file that is not a checkpoint, and a results path that cannot be written: exit 1
+    junk = os.path.join(args.work, "junk.chk.h5")
+    with open(junk, "w") as f:
+        f.write("not HDF5\n")
+    _, log = vcheck.run_ictus(args, deck, os.path.join(args.work, "periodic.h5"),
+                              extra=["--restart", junk], expect_status=1)
+    chk.true("cannot open the checkpoint" in log and "HDF5-DIAG" not in log,
+             "a file that is not a checkpoint is refused with one clear message")
+    _, log = vcheck.run_ictus(args, deck, os.path.join(args.work, "no", "such", "dir.h5"),
+                              expect_status=1)
+    chk.true("cannot create this results file" in log and "HDF5-DIAG" not in log,
+             "an unwritable results path is refused with one clear message")
     chk.finish()
 
 
