@@ -8,6 +8,7 @@ program test_iga
   use ictus_elements_iga, only: iga_shape_data, iga_basis_at
   use ictus_elements_quadrature, only: gauss_legendre
   use ictus_test_check, only: checker_t
+  use ictus_test_halfdisc, only: half_disc
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: rr = 4.0_dp, s2 = sqrt(2.0_dp)/2.0_dp
@@ -22,24 +23,6 @@ program test_iga
 
 contains
 
-  !> Half-disc patch of physics.md §7.4.
-  subroutine half_disc(patch)
-    type(patch_t), intent(inout) :: patch
-    real(dp) :: cp(3, 9), k(6), c, tn
-    c = cos(pi/8.0_dp)
-    tn = tan(pi/8.0_dp)
-    k = [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp]
-    cp(:, 1) = [0.0_dp, -rr, 1.0_dp]
-    cp(:, 2) = [0.0_dp, 0.0_dp, 1.0_dp]
-    cp(:, 3) = [0.0_dp, rr, 1.0_dp]
-    cp(:, 4) = [rr*tn, -rr, c]
-    cp(:, 5) = [rr/2.0_dp, 0.0_dp, 1.0_dp]
-    cp(:, 6) = [rr*tn, rr, c]
-    cp(:, 7) = [rr*s2, -rr*s2, 1.0_dp]
-    cp(:, 8) = [2.0_dp*rr*s2, 0.0_dp, s2]
-    cp(:, 9) = [rr*s2, rr*s2, 1.0_dp]
-    call patch%init('HALF', [2, 2], [3, 3], k, k, cp)
-  end subroutine half_disc
 
   !> Shape data of element e of a patch.
   subroutine element_shape(q, e, ng, shp)

@@ -6,6 +6,7 @@ program test_refine
   use ictus_geometry_refine, only: refine_knot_vector, degree_elevate_curve
   use ictus_geometry_patch, only: patch_t, patch_elevate, patch_refine, patch_point
   use ictus_test_check, only: checker_t
+  use ictus_test_halfdisc, only: half_disc
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: rr = 4.0_dp, s2 = sqrt(2.0_dp)/2.0_dp
@@ -126,24 +127,6 @@ contains
         "cubic +3 unchanged")
   end subroutine case_cubic_elevate
 
-  !> Half-disc patch of physics.md §7.4.
-  subroutine half_disc(patch)
-    type(patch_t), intent(inout) :: patch
-    real(dp) :: cp(3, 9), k(6), c, tn
-    c = cos(pi/8.0_dp)
-    tn = tan(pi/8.0_dp)
-    k = [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp]
-    cp(:, 1) = [0.0_dp, -rr, 1.0_dp]
-    cp(:, 2) = [0.0_dp, 0.0_dp, 1.0_dp]
-    cp(:, 3) = [0.0_dp, rr, 1.0_dp]
-    cp(:, 4) = [rr*tn, -rr, c]
-    cp(:, 5) = [rr/2.0_dp, 0.0_dp, 1.0_dp]
-    cp(:, 6) = [rr*tn, rr, c]
-    cp(:, 7) = [rr*s2, -rr*s2, 1.0_dp]
-    cp(:, 8) = [2.0_dp*rr*s2, 0.0_dp, s2]
-    cp(:, 9) = [rr*s2, rr*s2, 1.0_dp]
-    call patch%init('HALF', [2, 2], [3, 3], k, k, cp)
-  end subroutine half_disc
 
   !> Largest distance between two patches on a 32 x 32 grid of parameters (1024 points).
   real(dp) function patch_dev(a, b) result(dev)
