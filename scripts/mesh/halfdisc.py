@@ -233,7 +233,12 @@ def parser():
 
 def options(**kw):
     """Default options, updated with kw (for use from Python, e.g. the verification cases)."""
-    a = parser().parse_args([])
+    return defaults_with(parser(), kw)
+
+
+def defaults_with(ap, kw):
+    """The defaults of argument parser `ap`, updated with the dict kw (unknown keys: KeyError)."""
+    a = ap.parse_args([])
     for k, v in kw.items():
         if not hasattr(a, k):
             raise KeyError(k)

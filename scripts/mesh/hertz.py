@@ -223,12 +223,8 @@ def deck(a, command):
 
 
 def options(**kw):
-    a = parser().parse_args([])
-    for k, v in kw.items():
-        if not hasattr(a, k):
-            raise KeyError(k)
-        setattr(a, k, v)
-    return a
+    """Default options, updated with kw (for use from Python, e.g. the verification cases)."""
+    return halfdisc.defaults_with(parser(), kw)
 
 
 def main():
