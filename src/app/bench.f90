@@ -11,8 +11,7 @@
 !! times (default 3) and each figure is the median of its R values (the machine is shared).
 !! Output: one line of key=value pairs starting with BENCH (read by scripts/benchmark.py);
 !! times are seconds per step, mass_iter the mean conjugate-gradient iterations per
-!! consistent-mass solve (0 for a lumped mass), dt the step used, t_kmv_split the stiffness
-!! product by the proposed kernel bsr_matvec_split (below). The time step is the deck's
+!! consistent-mass solve (0 for a lumped mass), dt the step used. The time step is the deck's
 !! dt, or for dt = 0 the automatic one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
@@ -21,6 +20,7 @@ program ictus_bench
   use ictus_core_strings, only: command_arg
   use ictus_core_errors, only: error_count, terminate, input_error
   use ictus_core_timer, only: wall_time
+  use ictus_core_memory, only: alloc_stream
   use ictus_parallel_env, only: env_init, env_finalize, env_is_root, env_size, allreduce_max, &
       allreduce_sum, barrier
   use ictus_solver_model, only: model_t
@@ -50,7 +50,7 @@ program ictus_bench
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0
   real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, dt, stream_bw, bytes_kmv, mass_iter
   real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:)
-  real(dp) :: omega, t_kmv_split
+  real(dp) :: omega
   integer :: iters
   !> Amplitude of the rough start velocity.
   real(dp), parameter :: rough = 1.0e-3_dp
@@ -115,7 +115,7 @@ program ictus_bench
   end do
   s%v(:, 1:n) = s%v(:, 1:n)*mop%free(:, 1:n)
   allocate(u_save(2, dom%nlocal), v_save(2, dom%nlocal), a_save(2, dom%nlocal))
-  allocate(times(6, nrep))
+  allocate(times(5, nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
@@ -128,7 +128,6 @@ program ictus_bench
   t_mass = median(times(3, :))
   t_contact = median(times(4, :))
   t_update = median(times(5, :))
-  t_kmv_split = median(times(6, :))
   ! bytes the stiffness product must move once: blocks (4 reals + a column index), row
   ! pointers, u read, f written
   nnzb = size(ops%k%g%col, kind=i8)
@@ -144,12 +143,12 @@ program ictus_bench
   end if
   stream_bw = stream_triad(stream_mb)
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5))') &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,3(a,es11.5))') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
-      ' mass_iter=', mass_iter, ' dt=', dt, ' t_kmv_split=', t_kmv_split
+      ' mass_iter=', mass_iter, ' dt=', dt
   call env_finalize()
 
 contains
@@ -157,7 +156,7 @@ contains
   !> One set of timings, seconds per step (the slowest rank's): stiffness product, whole
   !! step, mass solve, contact correction, separate vector updates.
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(6)
+    real(dp), intent(out) :: t(5)
     real(dp) :: t0
     integer :: k
     ! 1. the stiffness product alone
@@ -167,13 +166,6 @@ contains
       call bsr_matvec(n, ops%k%g%row_ptr, ops%k%g%col, ops%k%val, s%u, s%f)
     end do
     t(1) = wall_time() - t0
-    ! 1b. the proposed kernel (split dependency chains), same product
-    call barrier()
-    t0 = wall_time()
-    do k = 1, nsteps
-      call bsr_matvec_split(n, ops%k%g%row_ptr, ops%k%g%col, ops%k%val, s%u, s%f)
-    end do
-    t(6) = wall_time() - t0
     ! 2. the whole step on the run's path (no output)
     call barrier()
     t0 = wall_time()
@@ -219,48 +211,11 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 6
+    do k = 1, 5
       call allreduce_max(t(k))
     end do
     t = t/nsteps
   end subroutine time_phases
-
-  !> y = K x like bsr_matvec, with the dependency chain of the row sums cut: each block's
-  !! two products are added first (a11 x1 + a12 x2), and blocks at odd and even positions of
-  !! the row go to two partial sums. The order of the additions is a fixed function of the
-  !! row (its columns are sorted by global node number), so the result is still the same on
-  !! any number of ranks; only the rounding differs from bsr_matvec. Measured here as the
-  !! proposal for src/solver/sparse.f90 and the fused step (doc/performance.md).
-  subroutine bsr_matvec_split(n, row_ptr, col, val, x, y)
-    integer, intent(in) :: n
-    integer, intent(in) :: row_ptr(n + 1), col(*)
-    real(dp), intent(in) :: val(2, 2, *), x(2, *)
-    real(dp), intent(inout) :: y(2, *)
-    integer :: i, k, j, j2, k1
-    real(dp) :: a1, a2, b1, b2
-    do i = 1, n
-      a1 = 0.0_dp
-      a2 = 0.0_dp
-      b1 = 0.0_dp
-      b2 = 0.0_dp
-      k1 = row_ptr(i + 1) - 1
-      do k = row_ptr(i), k1 - 1, 2
-        j = col(k)
-        j2 = col(k + 1)
-        a1 = a1 + (val(1, 1, k)*x(1, j) + val(1, 2, k)*x(2, j))
-        a2 = a2 + (val(2, 1, k)*x(1, j) + val(2, 2, k)*x(2, j))
-        b1 = b1 + (val(1, 1, k + 1)*x(1, j2) + val(1, 2, k + 1)*x(2, j2))
-        b2 = b2 + (val(2, 1, k + 1)*x(1, j2) + val(2, 2, k + 1)*x(2, j2))
-      end do
-      if (mod(k1 - row_ptr(i), 2) == 0) then
-        j = col(k1)
-        a1 = a1 + (val(1, 1, k1)*x(1, j) + val(1, 2, k1)*x(2, j))
-        a2 = a2 + (val(2, 1, k1)*x(1, j) + val(2, 2, k1)*x(2, j))
-      end if
-      y(1, i) = a1 + b1
-      y(2, i) = a2 + b2
-    end do
-  end subroutine bsr_matvec_split
 
   !> Median of a few values.
   pure real(dp) function median(x)
@@ -292,10 +247,11 @@ contains
     real(dp) :: t, best, q
     integer :: n, k, r
     n = max(1, mb*1024*1024/(3*8))
-    allocate(a(n), b(n), c(n))
-    a = 0.0_dp
-    b = 1.0_dp
-    c = 2.0_dp
+    ! the same huge-page advice as the solver's arrays (ictus_core_memory), so that the
+    ! reference stream is not handicapped by 4 KiB pages
+    call alloc_stream(a, n, 0.0_dp)
+    call alloc_stream(b, n, 1.0_dp)
+    call alloc_stream(c, n, 2.0_dp)
     q = 3.0_dp
     best = huge(1.0_dp)
     do r = 1, 10

@@ -16,9 +16,10 @@
 !! and `step_finish` refreshes the ghost displacements. The step allocates nothing.
 module ictus_solver_explicit
   use ictus_core_kinds, only: dp
+  use ictus_core_memory, only: alloc_stream
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_solver_sparse, only: bsr_t, bsr_matvec
+  use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
   use ictus_solver_domain, only: domain_t
   implicit none
@@ -76,11 +77,14 @@ contains
     s%nlocal = nl
     s%nglobal = dom%nn_global
     s%dt = dt
-    allocate(s%u(2, nl), s%v(2, nl), s%f(2, nl), s%v_old(2, nl), s%v_mid(2, nl), &
-        s%mv(2, nl))
-    allocate(s%a(2, nl), source=0.0_dp)
-    allocate(s%u_next(2, nl), source=0.0_dp)
-    s%v_mid = 0.0_dp
+    call alloc_stream(s%u, 2, nl, 0.0_dp)
+    call alloc_stream(s%v, 2, nl, 0.0_dp)
+    call alloc_stream(s%f, 2, nl, 0.0_dp)
+    call alloc_stream(s%v_old, 2, nl, 0.0_dp)
+    call alloc_stream(s%v_mid, 2, nl, 0.0_dp)
+    call alloc_stream(s%mv, 2, nl, 0.0_dp)
+    call alloc_stream(s%a, 2, nl, 0.0_dp)
+    call alloc_stream(s%u_next, 2, nl, 0.0_dp)
     s%u = u0
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)
@@ -157,36 +161,6 @@ contains
     s%step = s%step + 1
     s%t = s%t + s%dt
   end subroutine step_finish
-
-  !> The undamped lumped-mass predictor and the displacement update in one pass:
-  !! for each owned node i, f_i = -(K u)_i, a_i = f_i/m_i, v_i = v_i + dt a_i,
-  !! u_next_i = u_i + dt v_i. The same operations in the same order as the separate passes,
-  !! so the bits are the same; u_next must not alias u (rows read neighbours' u).
-  subroutine fused_lumped_step(n, row_ptr, col, val, inv_m, dt, u, v, u_next)
-    integer, intent(in) :: n
-    integer, intent(in) :: row_ptr(n + 1), col(*)
-    real(dp), intent(in) :: val(2, 2, *), inv_m(2, n), dt
-    real(dp), intent(in) :: u(2, *)
-    real(dp), intent(inout) :: v(2, *)
-    real(dp), intent(inout) :: u_next(2, *)
-    integer :: i, k, j
-    real(dp) :: s1, s2, v1, v2
-    do i = 1, n
-      s1 = 0.0_dp
-      s2 = 0.0_dp
-      do k = row_ptr(i), row_ptr(i + 1) - 1
-        j = col(k)
-        s1 = s1 + val(1, 1, k)*u(1, j) + val(1, 2, k)*u(2, j)
-        s2 = s2 + val(2, 1, k)*u(1, j) + val(2, 2, k)*u(2, j)
-      end do
-      v1 = v(1, i) + dt*((-s1)*inv_m(1, i))
-      v2 = v(2, i) + dt*((-s2)*inv_m(2, i))
-      v(1, i) = v1
-      v(2, i) = v2
-      u_next(1, i) = u(1, i) + dt*v1
-      u_next(2, i) = u(2, i) + dt*v2
-    end do
-  end subroutine fused_lumped_step
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,
   !! recorded for time t_n. Needs s%f = -K u_n and s%v_mid set by the current step.

@@ -6,10 +6,12 @@
 !! same node graph. Both are assembled once from element matrices.
 module ictus_solver_sparse
   use ictus_core_kinds, only: dp
+  use ictus_core_memory, only: alloc_stream
   implicit none
   private
   public :: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, csr_init, bsr_add_element, &
-      csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col
+      csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col, &
+      graph_copy, csr_copy, fused_lumped_step
 
   !> Node adjacency graph in CSR form (every node is its own neighbour). Rows exist for the
   !! first `n` (owned) nodes; columns are local node indices 1..ncol, sorted in each row by
@@ -88,7 +90,7 @@ contains
       if (k == 0) k = 1
       g%row_ptr(i + 1) = g%row_ptr(i) + k
     end do
-    allocate(g%col(g%row_ptr(nrows + 1) - 1))
+    call alloc_stream(g%col, g%row_ptr(nrows + 1) - 1, 0)
     mark = 0
     do i = 1, nrows
       pos = g%row_ptr(i)
@@ -150,20 +152,41 @@ contains
     end do
   end function find_col
 
+  !> dst = src, with the column array (streamed by every product) in huge pages.
+  subroutine graph_copy(dst, src)
+    type(graph_t), intent(out) :: dst
+    type(graph_t), intent(in) :: src
+    dst%n = src%n
+    dst%ncol = src%ncol
+    dst%row_ptr = src%row_ptr
+    dst%key = src%key
+    call alloc_stream(dst%col, size(src%col), 0)
+    dst%col(:) = src%col
+  end subroutine graph_copy
+
+  !> dst = src for a scalar matrix (graph and values in huge pages, see graph_copy).
+  subroutine csr_copy(dst, src)
+    type(csr_t), intent(out) :: dst
+    type(csr_t), intent(in) :: src
+    call graph_copy(dst%g, src%g)
+    call alloc_stream(dst%val, size(src%val), 0.0_dp)
+    dst%val(:) = src%val
+  end subroutine csr_copy
+
   !> Zero block matrix on graph `g`.
   subroutine bsr_init(a, g)
     type(bsr_t), intent(out) :: a
     type(graph_t), intent(in) :: g
-    a%g = g
-    allocate(a%val(2, 2, size(g%col)), source=0.0_dp)
+    call graph_copy(a%g, g)
+    call alloc_stream(a%val, 2, 2, size(g%col), 0.0_dp)
   end subroutine bsr_init
 
   !> Zero scalar matrix on graph `g`.
   subroutine csr_init(a, g)
     type(csr_t), intent(out) :: a
     type(graph_t), intent(in) :: g
-    a%g = g
-    allocate(a%val(size(g%col)), source=0.0_dp)
+    call graph_copy(a%g, g)
+    call alloc_stream(a%val, size(g%col), 0.0_dp)
   end subroutine csr_init
 
   !> Adds an element stiffness ke(2*nen, 2*nen) (dofs x1,y1,x2,y2,...) on nodes `nodes`
@@ -200,25 +223,73 @@ contains
   end subroutine csr_add_element
 
   !> y = A x for the block matrix on its n rows; x(2, *) holds owned and ghost values.
+  !! Each block's two products are added first; the blocks of a row go alternately into two
+  !! partial sums (odd and even positions), added at the end. The two chains of dependent
+  !! additions run in parallel (measured: doc/performance.md §3.1); the order is a fixed
+  !! function of the row, whose columns are sorted by global index, so the bits do not
+  !! depend on the partition. `fused_lumped_step` sums in the same order.
   subroutine bsr_matvec(n, row_ptr, col, val, x, y)
     integer, intent(in) :: n
     integer, intent(in) :: row_ptr(n + 1), col(*)
     real(dp), intent(in) :: val(2, 2, *), x(2, *)
     real(dp), intent(inout) :: y(2, *)
-    integer :: i, k, j
-    real(dp) :: s1, s2
+    integer :: i, k, k0, k1, j, j2
+    real(dp) :: a1, a2, b1, b2
     do i = 1, n
-      s1 = 0.0_dp
-      s2 = 0.0_dp
-      do k = row_ptr(i), row_ptr(i + 1) - 1
+      k0 = row_ptr(i)
+      k1 = row_ptr(i + 1) - 1
+      a1 = 0.0_dp
+      a2 = 0.0_dp
+      b1 = 0.0_dp
+      b2 = 0.0_dp
+      do k = k0, k1 - 1, 2
         j = col(k)
-        s1 = s1 + val(1, 1, k)*x(1, j) + val(1, 2, k)*x(2, j)
-        s2 = s2 + val(2, 1, k)*x(1, j) + val(2, 2, k)*x(2, j)
+        j2 = col(k + 1)
+        a1 = a1 + (val(1, 1, k)*x(1, j) + val(1, 2, k)*x(2, j))
+        a2 = a2 + (val(2, 1, k)*x(1, j) + val(2, 2, k)*x(2, j))
+        b1 = b1 + (val(1, 1, k + 1)*x(1, j2) + val(1, 2, k + 1)*x(2, j2))
+        b2 = b2 + (val(2, 1, k + 1)*x(1, j2) + val(2, 2, k + 1)*x(2, j2))
       end do
-      y(1, i) = s1
-      y(2, i) = s2
+      if (mod(k1 - k0, 2) == 0) then
+        j = col(k1)
+        a1 = a1 + (val(1, 1, k1)*x(1, j) + val(1, 2, k1)*x(2, j))
+        a2 = a2 + (val(2, 1, k1)*x(1, j) + val(2, 2, k1)*x(2, j))
+      end if
+      y(1, i) = a1 + b1
+      y(2, i) = a2 + b2
     end do
   end subroutine bsr_matvec
+
+  !> The undamped lumped-mass predictor and the displacement update in one pass over memory:
+  !! for each owned node i, f_i = -(K u)_i, a_i = f_i/m_i, v_i = v_i + dt a_i,
+  !! u_next_i = u_i + dt v_i. The rows go in chunks of `chunk`: K u of a chunk lands in a
+  !! small buffer that stays in the L1 cache, then the chunk's updates run. The same
+  !! operations in the same order as the separate passes, so the bits are the same; u_next
+  !! must not alias u (rows read neighbours' u).
+  subroutine fused_lumped_step(n, row_ptr, col, val, inv_m, dt, u, v, u_next)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(2, 2, *), inv_m(2, n), dt
+    real(dp), intent(in) :: u(2, *)
+    real(dp), intent(inout) :: v(2, *)
+    real(dp), intent(inout) :: u_next(2, *)
+    integer, parameter :: chunk = 1024
+    real(dp) :: ku(2, chunk), v1, v2
+    integer :: i0, m, l, i
+    do i0 = 1, n, chunk
+      m = min(chunk, n - i0 + 1)
+      call bsr_matvec(m, row_ptr(i0), col, val, u, ku)
+      do l = 1, m
+        i = i0 + l - 1
+        v1 = v(1, i) + dt*((-ku(1, l))*inv_m(1, i))
+        v2 = v(2, i) + dt*((-ku(2, l))*inv_m(2, i))
+        v(1, i) = v1
+        v(2, i) = v2
+        u_next(1, i) = u(1, i) + dt*v1
+        u_next(2, i) = u(2, i) + dt*v2
+      end do
+    end do
+  end subroutine fused_lumped_step
 
   !> y = (A ⊗ I2) x for the scalar matrix acting on both components, on its n rows.
   subroutine csr_matvec(n, row_ptr, col, val, x, y)
