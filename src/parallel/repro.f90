@@ -12,8 +12,12 @@ module ictus_parallel_repro
   use ictus_parallel_env, only: allreduce_max, allreduce_sum
   implicit none
   private
-  public :: repro_sum, repro_dot
+  public :: repro_sum, repro_dot, repro_sigma, repro_totals, levels
 
+  !> Number of pre-rounding levels. Kernels that fold a reproducible sum into their own loop
+  !! (the conjugate gradient of ictus_solver_mass_operator) extract, for each term t,
+  !! q = (t + sigma(k)) - sigma(k); part(k) += q; t = t - q for k = 1..levels, with sigma
+  !! from `repro_sigma`, and finish with `repro_totals`.
   integer, parameter :: levels = 3
 
 contains
@@ -78,6 +82,35 @@ contains
     call allreduce_sum(part)
     total = part(1) + (part(2) + part(3))
   end function repro_dot
+
+  !> Level boundaries for a sum of at most `nterms` terms (over all ranks) of magnitude at
+  !! most `bound`, the same on every rank. Any upper bound gives an exact, order-independent
+  !! sum; a tight one keeps more bits at the first level.
+  pure subroutine repro_sigma(bound, nterms, sigma)
+    real(dp), intent(in) :: bound
+    integer, intent(in) :: nterms
+    real(dp), intent(out) :: sigma(levels)
+    call level_boundaries(max(bound, tiny(1.0_dp)), nterms, sigma)
+  end subroutine repro_sigma
+
+  !> Global totals of several reproducible sums from this rank's level partial sums
+  !! part(lanes, levels, nsums): lanes (independent accumulators of one loop) and ranks are
+  !! added exactly, then each sum's levels are combined, finest last.
+  function repro_totals(part) result(total)
+    real(dp), intent(in) :: part(:,:,:)
+    real(dp) :: total(size(part, 3))
+    real(dp) :: lv(levels, size(part, 3))
+    integer :: j, k
+    do j = 1, size(part, 3)
+      do k = 1, levels
+        lv(k, j) = sum(part(:, k, j))
+      end do
+    end do
+    call allreduce_sum(lv)
+    do j = 1, size(part, 3)
+      total(j) = lv(1, j) + (lv(2, j) + lv(3, j))
+    end do
+  end function repro_totals
 
   !> sigma_k = 1.5 * 2^e_k with 2^e_1 > N M and each next level 53 - log2(N) - 1 bits finer.
   pure subroutine level_boundaries(m, nterms, sigma)

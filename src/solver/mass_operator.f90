@@ -8,9 +8,11 @@
 !! in `mass_op_init`; a solve allocates nothing.
 module ictus_solver_mass_operator
   use ictus_core_kinds, only: dp
-  use ictus_parallel_repro, only: repro_dot
+  use ictus_parallel_repro, only: repro_dot, repro_sigma, repro_totals, levels
+  use ictus_parallel_env, only: allreduce_max
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal
+  use ictus_core_memory, only: alloc_stream
+  use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal, csr_copy
   use ictus_solver_domain, only: domain_t
   implicit none
   private
@@ -32,6 +34,9 @@ module ictus_solver_mass_operator
     real(dp), allocatable :: free(:,:)
     !> Relative residual tolerance and iteration limit of the conjugate gradient.
     real(dp) :: rtol = 1.0e-12_dp
+    !> Largest absolute row sum of M and largest 1/m (global): bounds of the CG's terms.
+    real(dp) :: m_inf = 0.0_dp
+    real(dp) :: inv_max = 0.0_dp
     integer :: max_iter = 500
     !> Statistics: iterations of the last solve, and summed over all solves.
     integer :: last_iter = 0
@@ -60,13 +65,16 @@ contains
     op%nglobal = dom%nn_global
     op%consistent = consistent
     op%m_diag = m_diag(1:nn)
-    allocate(op%inv_diag(2, nn), op%free(2, dom%nlocal))
+    call alloc_stream(op%inv_diag, 2, nn, 0.0_dp)
+    call alloc_stream(op%free, 2, dom%nlocal, 0.0_dp)
     allocate(d(nn))
     if (consistent) then
-      op%m = m
+      call csr_copy(op%m, m)
       call csr_diagonal(m, d)
-      allocate(op%r(2, nn), op%z(2, nn), op%q(2, nn), op%p(2, dom%nlocal))
-      op%p = 0.0_dp
+      call alloc_stream(op%r, 2, nn, 0.0_dp)
+      call alloc_stream(op%z, 2, nn, 0.0_dp)
+      call alloc_stream(op%q, 2, nn, 0.0_dp)
+      call alloc_stream(op%p, 2, dom%nlocal, 0.0_dp)
     else
       d = m_diag(1:nn)
     end if
@@ -85,6 +93,14 @@ contains
         end if
       end do
     end do
+    if (consistent) then
+      do i = 1, nn
+        op%m_inf = max(op%m_inf, sum(abs(op%m%val(op%m%g%row_ptr(i):op%m%g%row_ptr(i + 1) - 1))))
+      end do
+      op%inv_max = maxval(op%inv_diag)
+      call allreduce_max(op%m_inf)
+      call allreduce_max(op%inv_max)
+    end if
   end subroutine mass_op_init
 
   !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
@@ -118,14 +134,23 @@ contains
   !> Solves M a = f on the free owned dofs (a = 0 on fixed ones); f and a are (2, >= nn).
   !! For a consistent mass, `a` holds the start value on entry (e.g. the previous step's
   !! acceleration). `ierr` = 1 when the conjugate gradient did not converge.
+  !!
+  !! The conjugate gradient makes three passes over memory per iteration (`cg_product`,
+  !! `cg_update`, `cg_direction`); the dot products are folded into them as reproducible
+  !! sums (ictus_parallel_repro) whose level boundaries come from a priori bounds of the
+  !! terms, so no pass is spent on a maximum: |p_i q_i| <= pmax^2 m_inf with m_inf the largest
+  !! absolute row sum of M; |r_i| <= rmax + |alpha| m_inf pmax for the updated residual. The
+  !! maxima pmax, rmax are global (one allreduce per iteration), so every rank uses the same
+  !! boundaries and the iterates are the same bits on any number of ranks.
   subroutine mass_solve(op, dom, f, a, ierr)
     type(mass_op_t), intent(inout) :: op
     type(domain_t), intent(inout) :: dom
     real(dp), intent(in) :: f(:,:)
     real(dp), intent(inout) :: a(:,:)
     integer, intent(out) :: ierr
-    real(dp) :: rz, rz_new, alpha, beta, fnorm2, rnorm2, pq
-    integer :: it, nn
+    real(dp) :: rz, alpha, beta, fnorm2, rnorm2, pq, rbound, mx(2), tot(2)
+    real(dp) :: part(2, levels, 2)
+    integer :: it, nn, nterms
     ierr = 0
     nn = op%nn
     if (.not. op%consistent) then
@@ -134,6 +159,7 @@ contains
     end if
     op%n_solves = op%n_solves + 1
     op%last_iter = 0
+    nterms = 2*op%nglobal
     ! residual of the start value
     op%p(:, 1:nn) = a(:, 1:nn)*op%free(:, 1:nn)
     call halo_exchange(dom%halo, op%p)
@@ -149,26 +175,111 @@ contains
     rnorm2 = repro_dot(nn, op%r, op%r, op%nglobal)
     if (rnorm2 <= op%rtol**2*fnorm2) return
     op%z = op%r*op%inv_diag
-    op%p(:, 1:nn) = op%z
     rz = repro_dot(nn, op%r, op%z, op%nglobal)
+    call cg_direction(nn, op%r, op%inv_diag, 0.0_dp, op%p, mx(1))
+    mx(2) = maxval(abs(op%r))
+    call allreduce_max(mx)
     do it = 1, op%max_iter
       call halo_exchange(dom%halo, op%p)
-      call csr_matvec(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q)
-      op%q = op%q*op%free(:, 1:nn)
-      pq = repro_dot(nn, op%p, op%q, op%nglobal)
+      call cg_product(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q, &
+          mx(1)**2*op%m_inf, nterms, part(:, :, 1))
+      tot(1:1) = repro_totals(part(:, :, 1:1))
+      pq = tot(1)
       alpha = rz/pq
-      a(:, 1:nn) = a(:, 1:nn) + alpha*op%p(:, 1:nn)
-      op%r = op%r - alpha*op%q
-      rnorm2 = repro_dot(nn, op%r, op%r, op%nglobal)
+      rbound = mx(2) + abs(alpha)*op%m_inf*mx(1)
+      call cg_update(nn, alpha, op%p, op%q, op%inv_diag, a, op%r, rbound**2, &
+          rbound**2*op%inv_max, nterms, part, mx(2))
+      tot = repro_totals(part)
+      rnorm2 = tot(1)
       op%last_iter = it
       if (rnorm2 <= op%rtol**2*fnorm2) exit
-      op%z = op%r*op%inv_diag
-      rz_new = repro_dot(nn, op%r, op%z, op%nglobal)
-      beta = rz_new/rz
-      rz = rz_new
-      op%p(:, 1:nn) = op%z + beta*op%p(:, 1:nn)
+      beta = tot(2)/rz
+      rz = tot(2)
+      call cg_direction(nn, op%r, op%inv_diag, beta, op%p, mx(1))
+      call allreduce_max(mx)
     end do
     op%total_iter = op%total_iter + op%last_iter
     if (rnorm2 > op%rtol**2*fnorm2) ierr = 1
   end subroutine mass_solve
+
+  !> q = M p on the n owned rows (p with current ghosts) and this rank's level sums of p.q
+  !! (lanes = the two components) for terms bounded by `bound`. The rows go in chunks whose
+  !! q is still in the L1 cache when its terms are summed.
+  subroutine cg_product(n, row_ptr, col, val, p, q, bound, nterms, part)
+    integer, intent(in) :: n, nterms
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(*), p(2, *), bound
+    real(dp), intent(inout) :: q(2, *)
+    real(dp), intent(out) :: part(2, levels)
+    integer, parameter :: chunk = 1024
+    real(dp) :: sigma(levels), t, w
+    integer :: i0, i, c, l
+    call repro_sigma(bound, nterms, sigma)
+    part = 0.0_dp
+    do i0 = 1, n, chunk
+      call csr_matvec(min(chunk, n - i0 + 1), row_ptr(i0), col, val, p, q(1, i0))
+      do i = i0, min(i0 + chunk - 1, n)
+        do c = 1, 2
+          t = p(c, i)*q(c, i)
+          do l = 1, levels
+            w = (t + sigma(l)) - sigma(l)
+            part(c, l) = part(c, l) + w
+            t = t - w
+          end do
+        end do
+      end do
+    end do
+  end subroutine cg_product
+
+  !> a += alpha p; r -= alpha q on the free dofs (inv_diag > 0); level sums of r.r and
+  !! r.(r/m) (bounded by brr and brz); rmax = max |r| on this rank.
+  subroutine cg_update(n, alpha, p, q, inv_diag, a, r, brr, brz, nterms, part, rmax)
+    integer, intent(in) :: n, nterms
+    real(dp), intent(in) :: alpha, p(2, *), q(2, *), inv_diag(2, *), brr, brz
+    real(dp), intent(inout) :: a(2, *), r(2, *)
+    real(dp), intent(out) :: part(2, levels, 2), rmax
+    real(dp) :: s_rr(levels), s_rz(levels), rc, t, w
+    integer :: i, c, l
+    call repro_sigma(brr, nterms, s_rr)
+    call repro_sigma(brz, nterms, s_rz)
+    part = 0.0_dp
+    rmax = 0.0_dp
+    do i = 1, n
+      do c = 1, 2
+        a(c, i) = a(c, i) + alpha*p(c, i)
+        rc = r(c, i)
+        if (inv_diag(c, i) > 0.0_dp) rc = rc - alpha*q(c, i)
+        r(c, i) = rc
+        rmax = max(rmax, abs(rc))
+        t = rc*rc
+        do l = 1, levels
+          w = (t + s_rr(l)) - s_rr(l)
+          part(c, l, 1) = part(c, l, 1) + w
+          t = t - w
+        end do
+        t = rc*(rc*inv_diag(c, i))
+        do l = 1, levels
+          w = (t + s_rz(l)) - s_rz(l)
+          part(c, l, 2) = part(c, l, 2) + w
+          t = t - w
+        end do
+      end do
+    end do
+  end subroutine cg_update
+
+  !> p = r/m + beta p on the owned dofs; pmax = max |p| on this rank.
+  subroutine cg_direction(n, r, inv_diag, beta, p, pmax)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: r(2, *), inv_diag(2, *), beta
+    real(dp), intent(inout) :: p(2, *)
+    real(dp), intent(out) :: pmax
+    integer :: i, c
+    pmax = 0.0_dp
+    do i = 1, n
+      do c = 1, 2
+        p(c, i) = r(c, i)*inv_diag(c, i) + beta*p(c, i)
+        pmax = max(pmax, abs(p(c, i)))
+      end do
+    end do
+  end subroutine cg_direction
 end module ictus_solver_mass_operator
