@@ -94,7 +94,8 @@ program ictus_bench
   call assemble_operators(model, dom, ops, bad, nbad)
   call build_contact(deck, model, contact)
   if (error_count() > 0 .or. nbad > 0) call terminate(1)
-  call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, model%fixed(:, dom%halo%gid))
+  call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, model%fixed(:, dom%halo%gid), &
+      model%mass_tol)
   dt = model%dt
   if (.not. dt > 0.0_dp) then
     ! automatic step as in a run: 0.9 (the default safety) of 2/omega_max

@@ -59,6 +59,7 @@ contains
       model%dt = deck%step%dt
       model%t_end = deck%step%t_end
       model%safety = deck%step%safety
+      model%mass_tol = deck%step%mass_tol
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
       model%restart_every = deck%step%restart_every

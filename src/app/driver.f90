@@ -79,7 +79,7 @@ contains
     call build_contact(deck, model, contact)
     if (error_count() > 0) call input_failure()
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
-        model%fixed(:, dom%halo%gid))
+        model%fixed(:, dom%halo%gid), model%mass_tol)
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
@@ -438,7 +438,7 @@ contains
         'projections failed during the run (those points were treated as open)')
     if (mop%consistent) call log_info('consistent mass: '//str(mop%n_solves)// &
         ' solves, mean '//str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
-        ' CG iterations per solve')
+        ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
     call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
         ' steps')
     call results_close(res, 'completed')

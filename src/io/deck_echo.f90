@@ -306,7 +306,8 @@ contains
     type(text_t), intent(inout) :: t
     if (.not. d%has_step) return
     call put(t, '*STEP')
-    call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety))
+    call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)//', MASS TOL='// &
+        real_text(d%step%mass_tol))
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
     if (d%step%field_every == 0) then

@@ -1347,7 +1347,7 @@ contains
     d%step%where = c%where
   end subroutine read_step
 
-  !> *DYNAMIC, EXPLICIT [, SAFETY=s]: one data line "dt, t_end".
+  !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS TOL=tol]: one data line "dt, t_end".
   subroutine read_dynamic(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -1356,7 +1356,7 @@ contains
     real(dp) :: v(2), s(1)
     integer :: i
 
-    call check_params(c, 'SAFETY', 'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -1364,6 +1364,14 @@ contains
         call card_error(c, 'SAFETY='//str(s(1))//' outside (0, 1]')
       else
         d%step%safety = s(1)
+      end if
+    end if
+    if (get_reals(c, 'MASS TOL', 1, 'a number in [1e-14, 1e-3]', s)) then
+      if (s(1) < 1.0e-14_dp .or. s(1) > 1.0e-3_dp) then
+        call card_error(c, 'MASS TOL='//str(s(1))//' outside [1e-14, 1e-3] (relative '// &
+            'residual of the consistent-mass solve)')
+      else
+        d%step%mass_tol = s(1)
       end if
     end if
     if (rd%has_dynamic) call card_error(c, 'a second *DYNAMIC in the step')

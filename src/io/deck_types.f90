@@ -169,6 +169,8 @@ module ictus_io_deck_types
     real(dp) :: dt = 0.0_dp
     real(dp) :: t_end = 0.0_dp
     real(dp) :: safety = 0.9_dp
+    !> Relative residual at which the consistent-mass conjugate gradient stops (MASS TOL=).
+    real(dp) :: mass_tol = 1.0e-12_dp
     !> History output every n steps (default 1).
     integer :: history_every = 1
     !> Field output every n steps (0 = default: 20 snapshots over the run).

@@ -49,14 +49,16 @@ module ictus_solver_mass_operator
 contains
 
   !> Sets up the operator for the rows of `dom`. `m` is used only when `consistent`;
-  !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero.
-  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed)
+  !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero; `rtol` is the
+  !! relative residual at which the conjugate gradient stops (default 1e-12).
+  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol)
     type(mass_op_t), intent(out) :: op
     type(domain_t), intent(in) :: dom
     logical, intent(in) :: consistent
     type(csr_t), intent(in) :: m
     real(dp), intent(in) :: m_diag(:)
     logical, intent(in) :: fixed(:,:)
+    real(dp), intent(in), optional :: rtol
     real(dp), allocatable :: d(:)
     integer :: i, c, nn
     nn = dom%nowned
@@ -64,6 +66,7 @@ contains
     op%nlocal = dom%nlocal
     op%nglobal = dom%nn_global
     op%consistent = consistent
+    if (present(rtol)) op%rtol = rtol
     op%m_diag = m_diag(1:nn)
     call alloc_stream(op%inv_diag, 2, nn, 0.0_dp)
     call alloc_stream(op%free, 2, dom%nlocal, 0.0_dp)
