@@ -8,7 +8,8 @@
 module ictus_contact_contact
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower, str
-  use ictus_contact_surface, only: contact_surface_t, segment_shape, MAX_SEG_NODES
+  use ictus_contact_surface, only: contact_surface_t, segment_shape, segment_curve_t, &
+      MAX_SEG_NODES
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
       node_to_segment_forces
@@ -183,18 +184,21 @@ contains
         select case (p%kind)
         case (PAIR_WALL)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), c%surfaces(p%first), &
-              p%grid_first, .false., nn, x, m_diag, dt, r_max, where)
+              p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r_max, where)
         case (PAIR_NODE_TO_SEGMENT)
-          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
+          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
-              c%surfaces(p%second), p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+              c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
+              dt, r_max, where)
         case default
-          call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first)
-          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second)
+          call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first, p%curves_first)
+          call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
-              c%surfaces(p%second), p%grid_second, .true., nn, x, m_diag, dt, r_max, where)
+              c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
+              dt, r_max, where)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%second), &
-              c%surfaces(p%first), p%grid_first, .true., nn, x, m_diag, dt, r_max, where)
+              c%surfaces(p%first), p%grid_first, p%curves_first, .true., nn, x, m_diag, dt, &
+              r_max, where)
         end select
       end associate
     end do
@@ -202,13 +206,14 @@ contains
 
   !> Stability ratios of the nodes of `slave` against `master` (or a rigid wall when
   !! has_master is false); keeps the largest in r_max/where.
-  subroutine side_ratio(c, name, penalty, eps_m, slave, master, grid, has_master, nn, x, &
-      m_diag, dt, r_max, where)
+  subroutine side_ratio(c, name, penalty, eps_m, slave, master, grid, curves, has_master, nn, &
+      x, m_diag, dt, r_max, where)
     type(contact_t), intent(in) :: c
     character(len=*), intent(in) :: name
     real(dp), intent(in) :: penalty, eps_m
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
+    type(segment_curve_t), intent(in) :: curves(:)
     logical, intent(in) :: has_master
     integer, intent(in) :: nn
     real(dp), intent(in) :: x(2, nn), m_diag(nn), dt
@@ -224,7 +229,7 @@ contains
       rm = 0.0_dp
       gm = 0
       if (has_master) then
-        call closest_point(master, grid, x, x(:, g), cand, pr, nf)
+        call closest_point(master, grid, curves, x(:, g), cand, pr, nf)
         if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) then
           call master_ratio(master, pr%seg, pr%t, m_diag, eps_m, rm, gm)
         else

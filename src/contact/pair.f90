@@ -10,7 +10,8 @@
 !!   master nodes A of the closest point.
 module ictus_contact_pair
   use ictus_core_kinds, only: dp, i8, str_len
-  use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_bbox, segment_shape
+  use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_bbox, &
+      segment_shape, segment_curve_t, surface_curves
   use ictus_contact_search, only: search_grid_t, grid_init, grid_build, grid_query
   use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
       PROJ_CORNER
@@ -61,6 +62,9 @@ module ictus_contact_pair
     real(dp), allocatable :: pressure(:)
     !> Search grids with the first / the second surface as master, candidate work array.
     type(search_grid_t) :: grid_first, grid_second
+    !> The segments of the first / the second surface as curves on the coordinates of the
+    !! grids (nseg each), built with them: the projections evaluate these.
+    type(segment_curve_t), allocatable :: curves_first(:), curves_second(:)
     integer, allocatable :: cand(:)
   end type contact_pair_t
 
@@ -92,6 +96,13 @@ contains
       call grid_init(pair%grid_first, s1%nseg)
       call grid_init(pair%grid_second, s2%nseg)
     end if
+    if (allocated(pair%curves_first)) deallocate(pair%curves_first)
+    if (allocated(pair%curves_second)) deallocate(pair%curves_second)
+    if (pair%kind /= PAIR_WALL) then
+      allocate(pair%curves_first(s1%nseg), pair%curves_second(s2%nseg))
+    else
+      allocate(pair%curves_first(0), pair%curves_second(0))
+    end if
     allocate(pair%cand(max(ncand, 1)))
     call pair_reset_results(pair)
   end subroutine pair_setup
@@ -109,39 +120,43 @@ contains
   end subroutine pair_reset_results
 
   !> Rebuilds a search grid over the current bounding boxes of a master surface's segments,
-  !! grown by radius.
+  !! grown by radius, and the segments' curves on the current coordinates.
   !! @param surf master surface; @param x coordinates (2, nn); @param radius growth;
-  !! @param grid its grid (from grid_init with surf%nseg boxes)
-  subroutine update_grid(surf, x, radius, grid)
+  !! @param grid its grid (from grid_init with surf%nseg boxes); @param curves (nseg)
+  subroutine update_grid(surf, x, radius, grid, curves)
     type(contact_surface_t), intent(in) :: surf
     real(dp), intent(in) :: x(:,:), radius
     type(search_grid_t), intent(inout) :: grid
+    type(segment_curve_t), intent(inout) :: curves(:)
     integer :: s
     do s = 1, surf%nseg
       call segment_bbox(surf, s, x, radius, grid%box(:, s))
     end do
     call grid_build(grid)
+    call surface_curves(surf, x, curves)
   end subroutine update_grid
 
   !> Closest point of a master surface to xs: global search in its grid, then projection.
-  !! @param master surface; @param grid its built grid; @param x coordinates (2, nn);
-  !! @param xs point (2); @param cand work (>= master%nseg); @param res projection;
-  !! @param nfail 1 if a projection failed
-  pure subroutine closest_point(master, grid, x, xs, cand, res, nfail)
+  !! @param master surface; @param grid its built grid; @param curves its segments' curves
+  !! (nseg, from update_grid); @param xs point (2); @param cand work (>= master%nseg);
+  !! @param res projection; @param nfail 1 if a projection failed
+  pure subroutine closest_point(master, grid, curves, xs, cand, res, nfail)
     type(contact_surface_t), intent(in) :: master
     type(search_grid_t), intent(in) :: grid
-    real(dp), intent(in) :: x(:,:), xs(2)
+    type(segment_curve_t), intent(in) :: curves(:)
+    real(dp), intent(in) :: xs(2)
     integer, intent(inout) :: cand(:)
     type(projection_t), intent(out) :: res
     integer, intent(out) :: nfail
     integer :: ncand
     call grid_query(grid, xs, cand, ncand)
-    call project_point(master, x, xs, cand, ncand, res, nfail)
+    call project_point(master, curves, xs, cand, ncand, res, nfail)
   end subroutine closest_point
 
   !> One half-pass: the Gauss points of `slave` against `master` (grid built); forces on
   !! the slave's nodes only.
-  !! @param slave, master surfaces; @param grid master's grid; @param x (2, nn);
+  !! @param slave, master surfaces; @param grid master's grid; @param curves master's
+  !! segment curves (from update_grid); @param x (2, nn);
   !! @param eps penalty; @param cand work; @param fc forces (2, nn), accumulated;
   !! @param force resultant on the slave (2), accumulated; @param energy sum 1/2 eps gp^2 wJ,
   !! accumulated; @param pmax, gmax max pressure/penetration; @param nact active points;
@@ -149,10 +164,11 @@ contains
   !! @param eps_m, dm optional bipenalty: mass penalty and the added nodal masses (nn),
   !! accumulated on the slave nodes: eps_m wJ |R_a| (sum|R_slave| + sum|R_master|), the
   !! absolute row sum of the slave rows of eps_m wJ C^T C, C = [R_slave, -R_master]
-  pure subroutine half_pass(slave, master, grid, x, eps, cand, fc, force, energy, pmax, gmax, &
-      nact, nfail, xout, pout, eps_m, dm)
+  pure subroutine half_pass(slave, master, grid, curves, x, eps, cand, fc, force, energy, &
+      pmax, gmax, nact, nfail, xout, pout, eps_m, dm)
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
+    type(segment_curve_t), intent(in) :: curves(:)
     real(dp), intent(in) :: x(:,:), eps
     integer, intent(inout) :: cand(:)
     real(dp), intent(inout) :: fc(:,:), force(2), energy, pmax, gmax
@@ -170,7 +186,7 @@ contains
       do a = 1, slave%nen(s)
         xq = xq + slave%gp_r(a, q)*x(:, slave%conn(a, s))
       end do
-      call closest_point(master, grid, x, xq, cand, pr, nf)
+      call closest_point(master, grid, curves, xq, cand, pr, nf)
       nfail = nfail + nf
       gp = 0.0_dp
       if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)
@@ -212,23 +228,23 @@ contains
     real(dp), intent(inout), optional :: dm(:)
     real(dp) :: e1, e2
     call pair_reset_results(pair)
-    call update_grid(s1, x, pair%radius, pair%grid_first)
-    call update_grid(s2, x, pair%radius, pair%grid_second)
+    call update_grid(s1, x, pair%radius, pair%grid_first, pair%curves_first)
+    call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
     e1 = 0.0_dp
     e2 = 0.0_dp
     if (present(dm) .and. pair%eps_m > 0.0_dp) then
-      call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
-          pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+      call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
+          pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm)
-      call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
-          pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+      call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
+          pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm)
     else
-      call half_pass(s1, s2, pair%grid_second, x, pair%penalty, pair%cand, fc, &
-          pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+      call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
+          pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, pair%x, pair%pressure)
-      call half_pass(s2, s1, pair%grid_first, x, pair%penalty, pair%cand, fc, &
-          pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+      call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
+          pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures)
     end if
     pair%energy = 0.5_dp*(e1 + e2)
@@ -251,11 +267,11 @@ contains
     real(dp) :: xs(2), gp, fs(2), r(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), sm
     integer :: k, g, a, nf
     call pair_reset_results(pair)
-    call update_grid(s2, x, pair%radius, pair%grid_second)
+    call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
     do k = 1, s1%nsn
       g = s1%nodes(k)
       xs = x(:, g)
-      call closest_point(s2, pair%grid_second, x, xs, pair%cand, pr, nf)
+      call closest_point(s2, pair%grid_second, pair%curves_second, xs, pair%cand, pr, nf)
       pair%failures = pair%failures + nf
       gp = 0.0_dp
       if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)

@@ -22,11 +22,16 @@ module ictus_contact_surface
   private
   public :: contact_surface_t, SEG_LAGRANGE, SEG_BEZIER, surface_init, surface_free, &
       segment_shape, segment_geometry, segment_bbox, face_segment, element_area, &
-      patch_side_segments, reverse_segment, MAX_SEG_NODES
+      patch_side_segments, reverse_segment, MAX_SEG_NODES, segment_curve_t, segment_curve, &
+      surface_curves, curve_point, curve_geometry, CURVE_SAMPLES
 
   !> Largest number of nodes of a segment (degree 15): the size of the fixed local arrays
   !! of the contact kernels, so that a contact step allocates nothing.
   integer, parameter :: MAX_SEG_NODES = 16
+
+  !> A segment curve keeps its points at t_k = k/CURVE_SAMPLES, k = 0..CURVE_SAMPLES: the
+  !! closest-point projection starts at the nearest of them.
+  integer, parameter :: CURVE_SAMPLES = 4
 
   !> Segment kinds.
   integer, parameter :: SEG_LAGRANGE = 1, SEG_BEZIER = 2
@@ -69,6 +74,32 @@ module ictus_contact_surface
     real(dp), allocatable :: gp_wj(:)
     real(dp), allocatable :: gp_r(:,:)
   end type contact_surface_t
+
+  !> One segment on given coordinates in Bezier form, for many evaluations at fixed
+  !! positions: x(t) = x_0 + A(t)/W(t), (A, W)(t) = sum_j B_j(t) h_j, with the Bernstein
+  !! polynomials B_j of degree p and the homogeneous Bezier points
+  !! h_j = sum_A C(A, j) w_A (x_A - x_0, 1). A Lagrange edge is a polynomial Bezier curve
+  !! (W = 1): h = x_1, x_2 for 2 nodes; x_1, 2 x_mid - (x_1 + x_3)/2, x_3 for 3 nodes (less
+  !! x_0). The origin x_0 is the segment's first node: relative to it the Bezier points are of
+  !! the size of the segment, so the derivatives lose no digits to the size of the
+  !! coordinates (x_A W' and A' cancel in x' = (A' - W' x)/W). The contact kernels build the
+  !! curves of a master surface once per force evaluation (`surface_curves`); its
+  !! closest-point projections then evaluate the segments many times per point without the
+  !! extraction operator, the weights and the gather of the nodes, and one pass gives the
+  !! point and both derivatives. Same curve as `segment_geometry`, to round-off.
+  !! No default initialisation: a local curve costs nothing until it is built.
+  type :: segment_curve_t
+    !> Degree, and whether W varies (Bezier segments) or is 1 (Lagrange edges).
+    integer :: p
+    logical :: rational
+    !> Origin x_0 (2) and homogeneous Bezier points (w x, w y, w) relative to it, (3, p + 1)
+    !! used.
+    real(dp) :: x0(2)
+    real(dp) :: h(3, MAX_SEG_NODES)
+    !> Points at t_k = k/CURVE_SAMPLES, (2, 0:CURVE_SAMPLES): evaluated once with the curve,
+    !! not for every point projected onto it.
+    real(dp) :: xk(2, 0:CURVE_SAMPLES)
+  end type segment_curve_t
 
 contains
 
@@ -282,6 +313,149 @@ contains
       x2 = x2 + ddr(a)*x(:, g)
     end do
   end subroutine segment_geometry
+
+  !> Segment s on the coordinates x in Bezier form (see segment_curve_t).
+  !! @param this surface; @param s segment; @param x coordinates (2, nn); @param c the curve
+  pure subroutine segment_curve(this, s, x, c)
+    type(contact_surface_t), intent(in) :: this
+    integer, intent(in) :: s
+    real(dp), intent(in) :: x(:,:)
+    type(segment_curve_t), intent(out) :: c
+    real(dp) :: hw(3)
+    integer :: a, j, n, g, k
+    n = this%nen(s)
+    c%p = n - 1
+    c%rational = this%kind(s) /= SEG_LAGRANGE
+    c%x0 = x(:, this%conn(1, s))
+    if (.not. c%rational) then
+      do a = 1, n
+        g = this%conn(a, s)
+        c%h(1, a) = x(1, g) - c%x0(1)
+        c%h(2, a) = x(2, g) - c%x0(2)
+        c%h(3, a) = 1.0_dp
+      end do
+      if (n == 3) c%h(1:2, 2) = 2.0_dp*c%h(1:2, 2) - 0.5_dp*(c%h(1:2, 1) + c%h(1:2, 3))
+    else
+      c%h(:, 1:n) = 0.0_dp
+      do a = 1, n
+        g = this%conn(a, s)
+        hw(3) = this%wgt(a, s)
+        hw(1) = hw(3)*(x(1, g) - c%x0(1))
+        hw(2) = hw(3)*(x(2, g) - c%x0(2))
+        do j = 1, n
+          c%h(:, j) = c%h(:, j) + this%ext(a, j, s)*hw
+        end do
+      end do
+    end if
+    do k = 0, CURVE_SAMPLES
+      call curve_point(c, real(k, dp)/real(CURVE_SAMPLES, dp), c%xk(:, k))
+    end do
+  end subroutine segment_curve
+
+  !> All segments of a surface on the coordinates x in Bezier form.
+  !! @param this surface; @param x coordinates (2, nn); @param curves (nseg)
+  pure subroutine surface_curves(this, x, curves)
+    type(contact_surface_t), intent(in) :: this
+    real(dp), intent(in) :: x(:,:)
+    type(segment_curve_t), intent(inout) :: curves(:)
+    integer :: s
+    do s = 1, this%nseg
+      call segment_curve(this, s, x, curves(s))
+    end do
+  end subroutine surface_curves
+
+  !> Point of a segment curve at t.
+  !! @param c curve; @param t parameter; @param xp point (2)
+  pure subroutine curve_point(c, t, xp)
+    type(segment_curve_t), intent(in) :: c
+    real(dp), intent(in) :: t
+    real(dp), intent(out) :: xp(2)
+    real(dp) :: h0(3), b0, b1, b2, u
+    u = 1.0_dp - t
+    select case (c%p)
+    case (1)
+      h0 = u*c%h(:, 1) + t*c%h(:, 2)
+    case (2)
+      b0 = u*u
+      b1 = 2.0_dp*u*t
+      b2 = t*t
+      h0 = b0*c%h(:, 1) + b1*c%h(:, 2) + b2*c%h(:, 3)
+    case default
+      call de_casteljau(c, t, h0)
+    end select
+    if (c%rational) then
+      xp = c%x0 + h0(1:2)/h0(3)
+    else
+      xp = c%x0 + h0(1:2)
+    end if
+  end subroutine curve_point
+
+  !> Point and first and second derivatives d/dt of a segment curve at t, in one pass: of
+  !! the homogeneous curve (A, W) directly for degrees 1 and 2, by de Casteljau's recursion
+  !! (de_casteljau) for higher degrees; then with y = A/W = x - x_0, x' = (A' - W' y)/W,
+  !! x'' = (A'' - 2 W' x' - W'' y)/W.
+  !! @param c curve; @param t parameter; @param xp point (2); @param x1, x2 derivatives (2)
+  pure subroutine curve_geometry(c, t, xp, x1, x2)
+    type(segment_curve_t), intent(in) :: c
+    real(dp), intent(in) :: t
+    real(dp), intent(out) :: xp(2), x1(2), x2(2)
+    real(dp) :: h0(3), h1(3), h2(3), d1(3), d2(3), y(2), u, rw
+    u = 1.0_dp - t
+    select case (c%p)
+    case (1)
+      h0 = u*c%h(:, 1) + t*c%h(:, 2)
+      h1 = c%h(:, 2) - c%h(:, 1)
+      h2 = 0.0_dp
+    case (2)
+      d1 = c%h(:, 2) - c%h(:, 1)
+      d2 = c%h(:, 3) - c%h(:, 2)
+      h0 = u*u*c%h(:, 1) + 2.0_dp*u*t*c%h(:, 2) + t*t*c%h(:, 3)
+      h1 = 2.0_dp*(u*d1 + t*d2)
+      h2 = 2.0_dp*(d2 - d1)
+    case default
+      call de_casteljau(c, t, h0, h1, h2)
+    end select
+    if (c%rational) then
+      rw = 1.0_dp/h0(3)
+      y = h0(1:2)*rw
+      x1 = (h1(1:2) - h1(3)*y)*rw
+      x2 = (h2(1:2) - 2.0_dp*h1(3)*x1 - h2(3)*y)*rw
+      xp = c%x0 + y
+    else
+      xp = c%x0 + h0(1:2)
+      x1 = h1(1:2)
+      x2 = h2(1:2)
+    end if
+  end subroutine curve_geometry
+
+  !> Homogeneous point h0 (3) of a segment curve of any degree at t and, if asked, its first
+  !! and second derivatives h1, h2 (3), by de Casteljau's recursion: after p - 2 levels the
+  !! three remaining points give h2 = p (p-1) (q_1 - 2 q_2 + q_3), after p - 1 levels the
+  !! two remaining ones h1 = p (q_2 - q_1), after p levels the point.
+  pure subroutine de_casteljau(c, t, h0, h1, h2)
+    type(segment_curve_t), intent(in) :: c
+    real(dp), intent(in) :: t
+    real(dp), intent(out) :: h0(3)
+    real(dp), intent(out), optional :: h1(3), h2(3)
+    real(dp) :: q(3, MAX_SEG_NODES), u
+    integer :: k, i, p
+    p = c%p
+    u = 1.0_dp - t
+    do i = 1, p + 1
+      q(:, i) = c%h(:, i)
+    end do
+    do k = 1, p
+      if (k == p - 1 .and. present(h2)) h2 = real(p*(p - 1), dp)*(q(:, 1) - 2.0_dp*q(:, 2) + &
+          q(:, 3))
+      if (k == p .and. present(h1)) h1 = real(p, dp)*(q(:, 2) - q(:, 1))
+      do i = 1, p + 1 - k
+        q(:, i) = u*q(:, i) + t*q(:, i+1)
+      end do
+    end do
+    h0 = q(:, 1)
+    if (p < 1 .and. present(h1)) h1 = 0.0_dp
+    if (p < 2 .and. present(h2)) h2 = 0.0_dp
+  end subroutine de_casteljau
 
   !> Bounding box (xmin, ymin, xmax, ymax) of segment s for coordinates x, grown by `grow`.
   !! Bezier segments lie in the hull of their Bezier points (positive weights); a quadratic

@@ -1,10 +1,11 @@
 !> Closest-point projection (physics.md 5.2): the quarter-circle table, clamping at the
-!! surface ends, moving across segment ends, quadratic Lagrange edges, and a concave master
-!! with two local minima.
+!! surface ends, moving across segment ends, quadratic Lagrange edges, a concave master
+!! with two local minima, and a point close to its master (round-off regime).
 program test_projection
   use ictus_core_kinds, only: dp
   use ictus_test_check, only: checker_t
-  use ictus_contact_surface, only: contact_surface_t, surface_init, SEG_BEZIER, SEG_LAGRANGE
+  use ictus_contact_surface, only: contact_surface_t, surface_init, segment_geometry, &
+      SEG_BEZIER, SEG_LAGRANGE, MAX_SEG_NODES
   use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
       PROJ_OUTSIDE, PROJ_CORNER
   implicit none
@@ -16,6 +17,7 @@ program test_projection
   call quadratic_edge(t)
   call concave_two_minima(t)
   call corner_point(t)
+  call close_to_master(t)
   call t%finish()
 
 contains
@@ -174,4 +176,30 @@ contains
     call t%close_abs(pr%normal(2), 1.0_dp, 1.0e-14_dp, 'mean normal (0,1)')
     call t%close_abs(pr%d, 0.5_dp, 1.0e-14_dp, 'corner d')
   end subroutine corner_point
+
+  !> A Gauss point of the striker of verification/contact_striker, 8e-5 inside a Q8 edge
+  !! 0.05 long: once Newton's step is small, the distance decrease it brings is below the
+  !! round-off of the distance; the damping used to halve such steps and the iteration to
+  !! creep until it failed (the point was treated as open). Converges now, to the foot of
+  !! the normal.
+  subroutine close_to_master(t)
+    type(checker_t), intent(inout) :: t
+    type(contact_surface_t) :: surf
+    real(dp) :: x(2, 3), xs(2), xp(2), x1(2), x2(2), r(MAX_SEG_NODES)
+    type(projection_t) :: pr
+    integer :: nf
+    x = reshape([6.48934341905694073e-02_dp, 5.00020633903862088e-02_dp, &
+        6.48936701567039975e-02_dp, 2.49999999999975589e-02_dp, &
+        6.48934341905692963e-02_dp, -2.06339039114389183e-06_dp], [2, 3])
+    xs = [6.49728301091865856e-02_dp, 5.63348497363406944e-03_dp]
+    call surface_init(surf, 'E', [SEG_LAGRANGE], [3], reshape([1, 2, 3], [3, 1]), x)
+    call project_point(surf, x, xs, [1], 1, pr, nf)
+    call t%equal_int(nf, 0, 'close to the master: no failure')
+    call t%equal_int(pr%status, PROJ_INTERIOR, 'close to the master: interior')
+    call segment_geometry(surf, 1, x, pr%t, xp, x1, x2, r)
+    call t%close_abs(dot_product(xs - xp, x1)/norm2(x1), 0.0_dp, 1.0e-16_dp, &
+        'close to the master: xs - xbar normal to the edge')
+    call t%close_abs(pr%d, -norm2(xs - xp), 1.0e-16_dp, 'close to the master: d = -|xs - xbar|')
+    call t%close_abs(pr%d, -7.93e-5_dp, 1.0e-7_dp, 'close to the master: d = -7.93e-5')
+  end subroutine close_to_master
 end program test_projection

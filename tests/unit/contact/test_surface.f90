@@ -1,6 +1,6 @@
 !> Contact surfaces: orientation of patch sides (including the half-disc patch of
-!! physics.md 7.4, whose det J is negative), nodal weights l_A, neighbours, Gauss points, and
-!! the inverted-element check.
+!! physics.md 7.4, whose det J is negative), nodal weights l_A, neighbours, Gauss points, the
+!! inverted-element check, and the segment curves (Bezier form) against segment_geometry.
 program test_surface
   use ictus_core_kinds, only: dp, pi
   use ictus_test_check, only: checker_t
@@ -8,7 +8,8 @@ program test_surface
   use ictus_geometry_patch, only: patch_t, patch_refine
   use ictus_geometry_sides, only: SIDE_XI0, SIDE_ETA0, SIDE_ETA1, SIDE_ALL
   use ictus_contact_surface, only: contact_surface_t, surface_init, patch_side_segments, &
-      segment_geometry, element_area, SEG_BEZIER, SEG_LAGRANGE
+      segment_geometry, element_area, SEG_BEZIER, SEG_LAGRANGE, segment_curve_t, &
+      surface_curves, curve_point, curve_geometry, CURVE_SAMPLES
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: rr = 4.0_dp
@@ -17,6 +18,7 @@ program test_surface
   call half_disc_swapped(t)
   call lagrange_weights(t)
   call inverted_element(t)
+  call curves_match_geometry(t)
   call t%finish()
 
 contains
@@ -178,4 +180,65 @@ contains
     xr = xl(:, [1, 4, 3, 2, 8, 7, 6, 5])
     call t%true(element_area(ETYPE_Q8, xr) < 0.0_dp, 'clockwise Q8 is inverted')
   end subroutine inverted_element
+
+  !> The segment curves give segment_geometry's point and derivatives to round-off: linear
+  !! and quadratic Lagrange edges, and rational Bezier segments of degree 1 to 5 with
+  !! unequal weights and a full extraction operator (non-negative, columns summing to 1),
+  !! far from the origin (where the derivatives of a Bezier form without its origin at a
+  !! node lost 2 to 3 digits).
+  subroutine curves_match_geometry(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: ns = 7, nm = 6
+    real(dp), parameter :: tq(5) = [0.0_dp, 0.13_dp, 0.5_dp, 0.77_dp, 1.0_dp]
+    type(contact_surface_t) :: surf
+    type(segment_curve_t) :: curves(ns)
+    real(dp) :: x(2, ns*nm), wgt(nm, ns), ext(nm, nm, ns), xp(2), x1(2), x2(2), r(nm)
+    real(dp) :: yp(2), y1(2), y2(2), zp(2), e0, e1, e2, ek, scale
+    integer :: kinds(ns), nens(ns), conn(nm, ns), s, a, j, q, k
+    kinds = [SEG_LAGRANGE, SEG_LAGRANGE, (SEG_BEZIER, s = 3, ns)]
+    nens = [2, 3, (s - 1, s = 3, ns)]
+    conn = 0
+    wgt = 1.0_dp
+    ext = 0.0_dp
+    do s = 1, ns
+      do a = 1, nens(s)
+        conn(a, s) = a + nm*(s - 1)
+        ! a wavy arc near (100, -50), about 1 long
+        x(:, conn(a, s)) = [100.0_dp + 0.3_dp*a + 0.05_dp*sin(3.0_dp*a + s), &
+            -50.0_dp + 0.1_dp*a*a/nens(s) + 0.02_dp*cos(2.0_dp*a*s)]
+        wgt(a, s) = 0.6_dp + 0.5_dp*abs(sin(1.7_dp*a + s))
+        do j = 1, nens(s)
+          ext(a, j, s) = 1.0_dp + abs(cos(0.9_dp*a*j + s))
+        end do
+      end do
+      do j = 1, nens(s)
+        ext(1:nens(s), j, s) = ext(1:nens(s), j, s)/sum(ext(1:nens(s), j, s))
+      end do
+    end do
+    call surface_init(surf, 'C', kinds, nens, conn, x, wgt=wgt, ext=ext)
+    call surface_curves(surf, x, curves)
+    e0 = 0.0_dp
+    e1 = 0.0_dp
+    e2 = 0.0_dp
+    ek = 0.0_dp
+    do s = 1, ns
+      do q = 1, size(tq)
+        call segment_geometry(surf, s, x, tq(q), xp, x1, x2, r)
+        call curve_geometry(curves(s), tq(q), yp, y1, y2)
+        call curve_point(curves(s), tq(q), zp)
+        scale = maxval(abs(xp))
+        e0 = max(e0, maxval(abs(yp - xp))/scale, maxval(abs(zp - xp))/scale)
+        e1 = max(e1, maxval(abs(y1 - x1))/max(norm2(x1), scale*epsilon(1.0_dp)))
+        e2 = max(e2, maxval(abs(y2 - x2))/max(norm2(x2), norm2(x1)))
+      end do
+      do k = 0, CURVE_SAMPLES
+        call segment_geometry(surf, s, x, real(k, dp)/real(CURVE_SAMPLES, dp), xp, x1, x2, r)
+        ek = max(ek, maxval(abs(curves(s)%xk(:, k) - xp))/maxval(abs(xp)))
+      end do
+    end do
+    call t%close_abs(e0, 0.0_dp, 1.0e-14_dp, 'curve point = segment_geometry')
+    call t%close_abs(e1, 0.0_dp, 1.0e-11_dp, 'curve x'' = segment_geometry')
+    call t%close_abs(e2, 0.0_dp, 1.0e-11_dp, 'curve x'''' = segment_geometry')
+    call t%close_abs(ek, 0.0_dp, 1.0e-14_dp, 'curve samples = segment_geometry')
+  end subroutine curves_match_geometry
 end program test_surface
