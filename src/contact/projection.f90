@@ -21,11 +21,11 @@
 !! (counter-clockwise) master; penetration gp = max(0, -d).
 module ictus_contact_projection
   use ictus_core_kinds, only: dp
-  use ictus_contact_surface, only: contact_surface_t, segment_curve_t, segment_curve, &
+  use ictus_contact_surface, only: contact_surface_t, segment_curve_t, &
       surface_curves, curve_geometry, CURVE_SAMPLES
   implicit none
   private
-  public :: projection_t, project_on_segment, project_point, &
+  public :: projection_t, project_point, &
       PROJ_NONE, PROJ_INTERIOR, PROJ_CORNER, PROJ_OUTSIDE, PROJ_FAILED, &
       SEG_INTERIOR, SEG_END0, SEG_END1, SEG_FAILED
 
@@ -90,21 +90,7 @@ module ictus_contact_projection
 
 contains
 
-  !> Closest point of segment s to xs, with t clamped to [0, 1].
-  !! @param surf surface; @param s segment; @param x coordinates (2, nn); @param xs point (2);
-  !! @param t result parameter; @param status SEG_*; @param iters Newton iterations used
-  pure subroutine project_on_segment(surf, s, x, xs, t, status, iters)
-    type(contact_surface_t), intent(in) :: surf
-    integer, intent(in) :: s
-    real(dp), intent(in) :: x(:,:), xs(2)
-    real(dp), intent(out) :: t
-    integer, intent(out) :: status, iters
-    type(segment_curve_t) :: c
-    call segment_curve(surf, s, x, c)
-    call project_on_curve(c, surf%seg_len(s), xs, t, status, iters)
-  end subroutine project_on_segment
-
-  !> Closest point of a segment curve to xs, with t clamped to [0, 1] (project_on_segment).
+  !> Closest point of a segment curve to xs, with t clamped to [0, 1] (the algorithm at the top).
   !! @param c the segment's curve; @param seg_len its reference length; @param xs point (2);
   !! @param t result parameter; @param status SEG_*; @param iters Newton iterations used
   pure subroutine project_on_curve(c, seg_len, xs, t, status, iters)

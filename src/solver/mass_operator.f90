@@ -42,8 +42,8 @@ module ictus_solver_mass_operator
     integer :: last_iter = 0
     integer :: total_iter = 0
     integer :: n_solves = 0
-    !> Work vectors (2, nlocal).
-    real(dp), allocatable :: r(:,:), z(:,:), p(:,:), q(:,:)
+    !> Work vectors: residual r (2, nn), direction p (2, nlocal: ghosts by halo), M p in q (2, nn).
+    real(dp), allocatable :: r(:,:), p(:,:), q(:,:)
   end type mass_op_t
 
 contains
@@ -75,7 +75,6 @@ contains
       call csr_copy(op%m, m)
       call csr_diagonal(m, d)
       call alloc_stream(op%r, 2, nn, 0.0_dp)
-      call alloc_stream(op%z, 2, nn, 0.0_dp)
       call alloc_stream(op%q, 2, nn, 0.0_dp)
       call alloc_stream(op%p, 2, dom%nlocal, 0.0_dp)
     else
@@ -169,17 +168,17 @@ contains
     call csr_matvec(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, op%q)
     a(:, 1:nn) = op%p(:, 1:nn)
     op%r = (f(:, 1:nn) - op%q)*op%free(:, 1:nn)
-    op%z = f(:, 1:nn)*op%free(:, 1:nn)
-    fnorm2 = repro_dot(nn, op%z, op%z, op%nglobal)
+    op%q = f(:, 1:nn)*op%free(:, 1:nn)
+    fnorm2 = repro_dot(nn, op%q, op%q, op%nglobal)
     if (fnorm2 == 0.0_dp) then
       a(:, 1:nn) = 0.0_dp
       return
     end if
     rnorm2 = repro_dot(nn, op%r, op%r, op%nglobal)
     if (rnorm2 <= op%rtol**2*fnorm2) return
-    op%z = op%r*op%inv_diag
-    rz = repro_dot(nn, op%r, op%z, op%nglobal)
+    ! first direction p = r/m (beta = 0) and r.p
     call cg_direction(nn, op%r, op%inv_diag, 0.0_dp, op%p, mx(1))
+    rz = repro_dot(nn, op%r, op%p, op%nglobal)
     mx(2) = maxval(abs(op%r))
     call allreduce_max(mx)
     do it = 1, op%max_iter
