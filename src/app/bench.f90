@@ -21,6 +21,7 @@ program ictus_bench
   use ictus_core_errors, only: error_count, terminate, input_error
   use ictus_core_timer, only: wall_time
   use ictus_core_memory, only: alloc_stream
+  use ictus_core_sort, only: sort
   use ictus_parallel_env, only: env_init, env_finalize, env_is_root, env_size, allreduce_max, &
       allreduce_sum, barrier
   use ictus_solver_model, only: model_t
@@ -221,19 +222,10 @@ contains
   !> Median of a few values.
   pure real(dp) function median(x)
     real(dp), intent(in) :: x(:)
-    real(dp) :: y(size(x)), w
-    integer :: a, b
+    real(dp) :: y(size(x))
+    integer :: b
     y = x
-    do a = 2, size(y)
-      w = y(a)
-      b = a - 1
-      do while (b >= 1)
-        if (y(b) <= w) exit
-        y(b + 1) = y(b)
-        b = b - 1
-      end do
-      y(b + 1) = w
-    end do
+    call sort(y)
     b = size(y)
     median = 0.5_dp*(y((b + 1)/2) + y(b/2 + 1))
   end function median

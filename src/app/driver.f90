@@ -5,6 +5,7 @@
 !! dt, open the results file, loop over the steps writing history and field records, close.
 module ictus_app_driver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ictus_core_sort, only: sort
   use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
   use ictus_core_logger, only: log_info, log_verbose
@@ -171,7 +172,7 @@ contains
     allocate(all_bad(ntot))
     call allgatherv_real(real(bad_mass(1:nbm), dp), counts, all_bad)
     bad_mass = nint(all_bad)
-    call sort_ints(bad_mass)
+    call sort(bad_mass)
     e = first_element_of(model, bad_mass(1))
     call input_error('*MASS', 'the lumped mass is not positive at nodes '// &
         join_ids(model%node_id(bad_mass), 8)//' ('//etype_name(model%etype(e))// &
@@ -189,22 +190,6 @@ contains
         'negative mass (-1/12 of the element mass on a square). Use TYPE=HRZ, TYPE=ALPHA '// &
         'or TYPE=CONSISTENT for these elements'
   end function mass_reason
-
-  !> Sorts a short list of integers in place.
-  subroutine sort_ints(v)
-    integer, intent(inout) :: v(:)
-    integer :: i, j, x
-    do i = 2, size(v)
-      x = v(i)
-      j = i - 1
-      do while (j >= 1)
-        if (v(j) <= x) exit
-        v(j + 1) = v(j)
-        j = j - 1
-      end do
-      v(j + 1) = x
-    end do
-  end subroutine sort_ints
 
   !> An element that holds node i.
   integer function first_element_of(model, i)

@@ -9,6 +9,7 @@
 !!   row-sum:    Omega^2 = 2 (1 - C)(2 + C)/3
 !! at k = 2 pi j/(nsp h), j = 0..nsp-1: the sorted eigenvalues must match to 1e-10.
 program test_iga_dispersion
+  use ictus_core_sort, only: sort
   use ictus_core_kinds, only: dp, pi
   use ictus_geometry_bezier, only: bezier_extraction_1d, bernstein
   use ictus_elements_quadrature, only: gauss_legendre
@@ -191,21 +192,4 @@ contains
     call eigenvalues(n - 2, kf, lf, lam(1:n-2), info)
     call t%close_abs(sqrt(lam(n-2))*h, 1.437_dp, 5.0e-4_dp, "open, fixed ends, row-sum: 1.437")
   end subroutine case_open
-
-  !> Ascending insertion sort.
-  pure subroutine sort(x)
-    real(dp), intent(inout) :: x(:)
-    real(dp) :: v
-    integer :: i, j
-    do i = 2, size(x)
-      v = x(i)
-      j = i - 1
-      do while (j >= 1)
-        if (x(j) <= v) exit
-        x(j + 1) = x(j)
-        j = j - 1
-      end do
-      x(j + 1) = v
-    end do
-  end subroutine sort
 end program test_iga_dispersion
