@@ -1,14 +1,16 @@
-!> Sparse assembly and products against dense matrices built from the same element matrices.
+!> Sparse assembly and products against dense matrices built from the same element matrices,
+!! and the stiffness product on partitions of a grid against the single-rank one.
 program test_sparse
   use ictus_core_kinds, only: dp
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       csr_init, bsr_add_element, csr_add_element, bsr_matvec, csr_matvec, csr_row_sums, &
-      csr_diagonal, find_col
+      csr_diagonal, find_col, fused_lumped_step
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
   call t%start("solver/sparse")
   call test_assembly_and_products(t)
+  call test_partitions(t)
   call t%finish()
 contains
 
@@ -75,4 +77,156 @@ contains
     call csr_diagonal(m, d)
     call t%close_abs(maxval(abs(d - [(md(i, i), i = 1, nn)])), 0.0_dp, 1e-14_dp, "diagonal")
   end subroutine test_assembly_and_products
+  !> A 7 x 5 grid of 4-node elements with pseudo-random element matrices, cut into parts as
+  !! METIS would (by element). Each part builds its rows as a rank does (owned nodes in
+  !! increasing global index, ghosts after them in another order);
+  !! K x on its owned nodes must be the single-rank result bit for bit, for the plain product
+  !! and for the fused lumped step.
+  subroutine test_partitions(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: ex = 7, ey = 5, nel = ex*ey, nn = (ex + 1)*(ey + 1), nen = 4
+    integer :: conn(nen, nel), part(nel), gid(nn), e, i, j, a, b, np, p, k, nown, nloc
+    real(dp) :: ke(2*nen, 2*nen, nel), xg(2, nn), yg(2, nn), vg(2, nn), ung(2, nn)
+    real(dp) :: inv_m(2, nn), dt, yl(2, nn), unl(2, nn)
+    real(dp), allocatable :: kd(:,:)
+    logical :: same_k, same_fused
+    do j = 1, ey
+      do i = 1, ex
+        e = i + (j - 1)*ex
+        a = i + (j - 1)*(ex + 1)
+        conn(:, e) = [a, a + 1, a + ex + 2, a + ex + 1]
+        do b = 1, 2*nen
+          do a = 1, 2*nen
+            ke(a, b, e) = sin(real(a + 3*b + 7*e, dp)) + merge(4.0_dp, 0.0_dp, a == b)
+          end do
+        end do
+      end do
+    end do
+    do i = 1, nn
+      xg(:, i) = [cos(real(3*i, dp)), sin(real(5*i, dp))]
+      vg(:, i) = [sin(real(2*i, dp)), cos(real(i, dp))]
+      inv_m(:, i) = 1.0_dp/(1.0_dp + real(mod(i, 3), dp))
+    end do
+    dt = 0.01_dp
+    ! single rank: the reference, and a check against the dense symmetric matrix
+    part = 0
+    call part_product(conn, ke, part, 0, xg, vg, inv_m, dt, yg, ung, gid, nown, nloc)
+    allocate(kd(2*nn, 2*nn), source=0.0_dp)
+    do e = 1, nel
+      do a = 1, nen
+        do b = 1, nen
+          kd(2*conn(a, e) - 1:2*conn(a, e), 2*conn(b, e) - 1:2*conn(b, e)) = &
+              kd(2*conn(a, e) - 1:2*conn(a, e), 2*conn(b, e) - 1:2*conn(b, e)) &
+              + ke(2*a - 1:2*a, 2*b - 1:2*b, e)
+        end do
+      end do
+    end do
+    call t%close_abs(maxval(abs(reshape(yg, [2*nn]) - matmul(kd, reshape(xg, [2*nn])))), &
+        0.0_dp, 1e-12_dp, "grid: K x (one part) = dense K x")
+    ! 2, 3 and 4 parts: vertical strips, a checkerboard, stripes across the numbering
+    do np = 2, 4
+      do e = 1, nel
+        i = mod(e - 1, ex) + 1
+        j = (e - 1)/ex + 1
+        select case (np)
+        case (2)
+          part(e) = merge(0, 1, i <= 3)
+        case (3)
+          part(e) = mod(i/2 + j/2, 3)
+        case (4)
+          part(e) = count(j > [2, 3, 4])
+        end select
+      end do
+      same_k = .true.
+      same_fused = .true.
+      do p = 0, np - 1
+        call part_product(conn, ke, part, p, xg, vg, inv_m, dt, yl, unl, gid, nown, nloc)
+        do k = 1, nown
+          if (any(yl(:, k) /= yg(:, gid(k)))) same_k = .false.
+          if (any(unl(:, k) /= ung(:, gid(k)))) same_fused = .false.
+        end do
+      end do
+      call t%true(same_k, "grid: K x on every part of " // char(48 + np) // &
+          " = one part, bit for bit")
+      call t%true(same_fused, "grid: fused lumped step on every part of " // char(48 + np) &
+          // " = one part, bit for bit")
+    end do
+  end subroutine test_partitions
+
+  !> K x and the fused lumped step's u_next on the nodes of part p, built as a rank builds
+  !! them: owned nodes (lowest part of their elements) by increasing global index, then the
+  !! ghosts, here by decreasing global index; the elements that hold an owned node. gid(k) is
+  !! the global index of local node k. u_next is returned huge when the fused step's
+  !! velocities differ from the separate passes'.
+  subroutine part_product(conn, ke, part, p, xg, vg, inv_m, dt, y, u_next, gid, nown, nloc)
+    integer, intent(in) :: conn(:,:), part(:), p
+    real(dp), intent(in) :: ke(:,:,:), xg(:,:), vg(:,:), inv_m(:,:), dt
+    real(dp), intent(out) :: y(:,:), u_next(:,:)
+    integer, intent(out) :: gid(:), nown, nloc
+    integer :: own(size(xg, 2)), g2l(size(xg, 2)), lconn(size(conn, 1), size(conn, 2))
+    integer :: nenv(size(conn, 2)), elems(size(conn, 2)), nn, nen, nell, g, k, e
+    logical :: needed(size(xg, 2))
+    type(graph_t) :: gr
+    type(bsr_t) :: kf
+    real(dp), allocatable :: xl(:,:), vl(:,:), fl(:,:), iml(:,:), un(:,:)
+    nn = size(xg, 2)
+    nen = size(conn, 1)
+    own = huge(1)
+    do e = 1, size(conn, 2)
+      own(conn(:, e)) = min(own(conn(:, e)), part(e))
+    end do
+    needed = .false.
+    nell = 0
+    do e = 1, size(conn, 2)
+      if (any(own(conn(:, e)) == p)) then
+        nell = nell + 1
+        elems(nell) = e
+        needed(conn(:, e)) = .true.
+      end if
+    end do
+    nown = 0
+    do g = 1, nn
+      if (own(g) == p) then
+        nown = nown + 1
+        gid(nown) = g
+      end if
+    end do
+    nloc = nown
+    do g = nn, 1, -1
+      if (needed(g) .and. own(g) /= p) then
+        nloc = nloc + 1
+        gid(nloc) = g
+      end if
+    end do
+    g2l = 0
+    do k = 1, nloc
+      g2l(gid(k)) = k
+    end do
+    do k = 1, nell
+      lconn(:, k) = g2l(conn(:, elems(k)))
+    end do
+    nenv = nen
+    call graph_from_elements(nown, nloc, nell, nen, nenv(1:nell), lconn(:, 1:nell), &
+        gid(1:nloc), gr)
+    call bsr_init(kf, gr)
+    do k = 1, nell
+      call bsr_add_element(kf, nen, lconn(:, k), ke(:, :, elems(k)))
+    end do
+    allocate(xl(2, nloc), vl(2, nloc), iml(2, nloc), fl(2, nloc))
+    xl(:, :) = xg(:, gid(1:nloc))
+    vl(:, :) = vg(:, gid(1:nloc))
+    iml(:, :) = inv_m(:, gid(1:nloc))
+    fl = 1.0e300_dp
+    call bsr_matvec(nown, kf%g%row_ptr, kf%g%col, kf%val, xl, fl)
+    y = 0.0_dp
+    y(:, 1:nloc) = fl
+    allocate(un(2, nloc))
+    un = 7.0_dp
+    call fused_lumped_step(nown, kf%g%row_ptr, kf%g%col, kf%val, iml, dt, xl, vl, un)
+    u_next = 0.0_dp
+    u_next(:, 1:nloc) = un
+    ! the fused step is the separate passes in the same order: the same bits
+    if (any(vl(:, 1:nown) /= vg(:, gid(1:nown)) + dt*((-y(:, 1:nown))*iml(:, 1:nown)))) &
+        u_next = huge(1.0_dp)
+  end subroutine part_product
 end program test_sparse
