@@ -1627,6 +1627,26 @@ contains
     call card_error(c, 'bad value '//key//'='//shown(v)//' (expected one of '//list//')')
   end subroutine get_choice
 
+  !> The text `v` of parameter `key` and its m comma-separated values; false when absent
+  !! (then reported as missing if `required`).
+  logical function param_values(c, key, what, v, toks, m, required) result(found)
+    type(card_t), intent(inout) :: c
+    character(len=*), intent(in) :: key, what
+    character(len=:), allocatable, intent(out) :: v
+    type(token_t), allocatable, intent(out) :: toks(:)
+    integer, intent(out) :: m
+    logical, intent(in), optional :: required
+    m = 0
+    found = get_param(c, key, v)
+    if (.not. found) then
+      if (present(required)) then
+        if (required) call missing(c, key, what)
+      end if
+      return
+    end if
+    call split_values(v, toks, m)
+  end function param_values
+
   !> `n` integers of parameter `key` (e.g. DEGREE=2,2); false when absent or bad (reported).
   logical function get_ints(c, key, n, what, vals, required) result(ok)
     type(card_t), intent(inout) :: c
@@ -1638,13 +1658,7 @@ contains
     type(token_t), allocatable :: toks(:)
     integer :: m, k
     ok = .false.
-    if (.not. get_param(c, key, v)) then
-      if (present(required)) then
-        if (required) call missing(c, key, what)
-      end if
-      return
-    end if
-    call split_values(v, toks, m)
+    if (.not. param_values(c, key, what, v, toks, m, required)) return
     if (m == n) then
       ok = .true.
       do k = 1, n
@@ -1666,13 +1680,7 @@ contains
     type(token_t), allocatable :: toks(:)
     integer :: m, k
     ok = .false.
-    if (.not. get_param(c, key, v)) then
-      if (present(required)) then
-        if (required) call missing(c, key, what)
-      end if
-      return
-    end if
-    call split_values(v, toks, m)
+    if (.not. param_values(c, key, what, v, toks, m, required)) return
     if (m == n) then
       ok = .true.
       do k = 1, n
