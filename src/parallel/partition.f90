@@ -1,11 +1,12 @@
-!> Element partitioning with METIS (dual graph: elements are neighbours when they share an
-!! edge, i.e. two nodes in 2D).
+!> The calls to METIS: element partitioning (dual graph: elements are neighbours when they
+!! share an edge, i.e. two nodes in 2D) and the nested-dissection order of a sparse
+!! factorisation.
 module ictus_parallel_partition
   use, intrinsic :: iso_c_binding, only: c_int, c_null_ptr, c_ptr, c_loc
   use ictus_parallel_metis_kinds, only: idx_t
   implicit none
   private
-  public :: partition_elements
+  public :: partition_elements, nested_dissection
 
   interface
     function metis_partmeshdual(ne, nn, eptr, eind, vwgt, vsize, ncommon, nparts, tpwgts, &
@@ -18,6 +19,15 @@ module ictus_parallel_partition
       integer(idx_t), intent(out) :: epart(*), npart(*)
       integer(c_int) :: status
     end function metis_partmeshdual
+    function metis_nodend(nvtxs, xadj, adjncy, vwgt, options, perm, iperm) &
+        bind(c, name='METIS_NodeND') result(status)
+      import :: c_int, c_ptr, idx_t
+      integer(idx_t), intent(in) :: nvtxs
+      integer(idx_t), intent(in) :: xadj(*), adjncy(*)
+      type(c_ptr), value :: vwgt, options
+      integer(idx_t), intent(out) :: perm(*), iperm(*)
+      integer(c_int) :: status
+    end function metis_nodend
   end interface
 
 contains
@@ -50,4 +60,34 @@ contains
         c_null_ptr, 2_idx_t, int(nparts, idx_t), c_null_ptr, c_null_ptr, objval, epart, npart)
     part = int(epart)
   end subroutine partition_elements
+
+  !> Fill-reducing order of the symmetric pattern (row_ptr, col) of n rows (1-based, full
+  !! rows; the diagonal is skipped): order(k) = the row eliminated k-th. METIS nested
+  !! dissection with default options, deterministic. `ierr` /= 0 when METIS fails.
+  subroutine nested_dissection(n, row_ptr, col, order, ierr)
+    integer, intent(in) :: n, row_ptr(n + 1), col(*)
+    integer, intent(out) :: order(n)
+    integer, intent(out) :: ierr
+    integer(idx_t), allocatable :: xadj(:), adjncy(:), perm(:), iperm(:)
+    integer :: i, p, k
+    ierr = 0
+    if (n <= 2) then
+      order = [(i, i = 1, n)]
+      return
+    end if
+    allocate(xadj(n + 1), adjncy(row_ptr(n + 1) - 1), perm(n), iperm(n))
+    k = 0
+    xadj(1) = 0
+    do i = 1, n
+      do p = row_ptr(i), row_ptr(i + 1) - 1
+        if (col(p) == i) cycle
+        k = k + 1
+        adjncy(k) = int(col(p) - 1, idx_t)
+      end do
+      xadj(i + 1) = int(k, idx_t)
+    end do
+    ierr = 1 - metis_nodend(int(n, idx_t), xadj, adjncy, c_null_ptr, c_null_ptr, perm, iperm)
+    ! METIS: perm(new) = old (0-based)
+    order = int(perm) + 1
+  end subroutine nested_dissection
 end module ictus_parallel_partition
