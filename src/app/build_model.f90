@@ -60,6 +60,7 @@ contains
       model%t_end = deck%step%t_end
       model%safety = deck%step%safety
       model%mass_tol = deck%step%mass_tol
+      model%mass_cg = deck%step%mass_cg
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
       model%restart_every = deck%step%restart_every

@@ -19,7 +19,8 @@ module ictus_app_driver
   use ictus_solver_model, only: model_t
   use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
   use ictus_solver_domain, only: domain_t, domain_init
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, MASS_SOLVER_CG, &
+      MASS_SOLVER_CHOLESKY
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
@@ -80,7 +81,8 @@ contains
     call build_contact(deck, model, contact)
     if (error_count() > 0) call input_failure()
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
-        model%fixed(:, dom%halo%gid), model%mass_tol)
+        model%fixed(:, dom%halo%gid), model%mass_tol, &
+        merge(MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, model%mass_cg))
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
@@ -421,9 +423,12 @@ contains
     call report_energy(s, e0)
     if (failures > 0) call warning('contact', str(int(failures))//' closest-point '// &
         'projections failed during the run (those points were treated as open)')
-    if (mop%consistent) call log_info('consistent mass: '//str(mop%n_solves)// &
-        ' solves, mean '//str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
+    if (mop%consistent .and. mop%solver == MASS_SOLVER_CG) call log_info('consistent mass: '// &
+        str(mop%n_solves)//' solves, mean '// &
+        str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
         ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
+    if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
+        'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
     call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
         ' steps')
     call results_close(res, 'completed')

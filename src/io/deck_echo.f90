@@ -306,8 +306,13 @@ contains
     type(text_t), intent(inout) :: t
     if (.not. d%has_step) return
     call put(t, '*STEP')
-    call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)//', MASS TOL='// &
-        real_text(d%step%mass_tol))
+    if (d%step%mass_cg) then
+      call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
+          ', MASS SOLVER=CG, MASS TOL='//real_text(d%step%mass_tol))
+    else
+      call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
+          ', MASS SOLVER=CHOLESKY')
+    end if
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
     if (d%step%field_every == 0) then

@@ -1347,16 +1347,19 @@ contains
     d%step%where = c%where
   end subroutine read_step
 
-  !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS TOL=tol]: one data line "dt, t_end".
+  !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG] [, MASS TOL=tol]: one data
+  !! line "dt, t_end". MASS TOL is the tolerance of the conjugate gradient, so it needs
+  !! MASS SOLVER=CG.
   subroutine read_dynamic(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
     character(len=*), parameter :: expect = '*DYNAMIC: expected 2 numbers (dt, t_end)'
     real(dp) :: v(2), s(1)
-    integer :: i
+    integer :: i, k
+    logical :: tol_given
 
-    call check_params(c, 'SAFETY|MASS TOL', 'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -1366,7 +1369,8 @@ contains
         d%step%safety = s(1)
       end if
     end if
-    if (get_reals(c, 'MASS TOL', 1, 'a number in [1e-14, 1e-3]', s)) then
+    tol_given = get_reals(c, 'MASS TOL', 1, 'a number in [1e-14, 1e-3]', s)
+    if (tol_given) then
       if (s(1) < 1.0e-14_dp .or. s(1) > 1.0e-3_dp) then
         call card_error(c, 'MASS TOL='//str(s(1))//' outside [1e-14, 1e-3] (relative '// &
             'residual of the consistent-mass solve)')
@@ -1374,6 +1378,11 @@ contains
         d%step%mass_tol = s(1)
       end if
     end if
+    call get_choice(c, 'MASS SOLVER', 'CHOLESKY|CG', k)
+    d%step%mass_cg = k == 2
+    if (tol_given .and. .not. d%step%mass_cg) call card_error(c, &
+        'MASS TOL is the tolerance of the conjugate gradient: add MASS SOLVER=CG (the '// &
+        'default MASS SOLVER=CHOLESKY solves exactly)')
     if (rd%has_dynamic) call card_error(c, 'a second *DYNAMIC in the step')
     rd%has_dynamic = .true.
     if (c%bad) return

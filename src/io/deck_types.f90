@@ -171,6 +171,8 @@ module ictus_io_deck_types
     real(dp) :: safety = 0.9_dp
     !> Relative residual at which the consistent-mass conjugate gradient stops (MASS TOL=).
     real(dp) :: mass_tol = 1.0e-12_dp
+    !> MASS SOLVER=CG (else the default CHOLESKY: M factorised once).
+    logical :: mass_cg = .false.
     !> History output every n steps (default 1).
     integer :: history_every = 1
     !> Field output every n steps (0 = default: 20 snapshots over the run).

@@ -14,7 +14,7 @@ module ictus_parallel_env
   private
   public :: env_init, env_finalize, env_rank, env_size, env_is_root, env_comm_f, &
       env_info_null_f, allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier, &
-      alltoall_int, exchange, allgatherv_real, allgather_int
+      alltoall_int, exchange, allgatherv_real, allgatherv_int, allgather_int
 
   !> Sum over all ranks, in place.
   interface allreduce_sum
@@ -204,22 +204,47 @@ contains
   end subroutine alltoall_int
 
   !> Gathers every rank's `x` (its own length) into `all` on every rank, in rank order.
-  subroutine allgatherv_real(x, counts, all)
+  !! `displs` (the offsets of the ranks' parts, 0-based), when given, saves computing them:
+  !! then nothing is allocated (for use in the time loop).
+  subroutine allgatherv_real(x, counts, all, displs)
     real(dp), intent(in) :: x(:)
     integer, intent(in) :: counts(:)
     real(dp), intent(out) :: all(:)
-    integer :: displs(size(counts)), q
+    integer, intent(in), optional :: displs(:)
     if (nranks == 1) then
       all(1:size(x)) = x
-      return
+    else if (present(displs)) then
+      call MPI_Allgatherv(x, size(x), MPI_DOUBLE_PRECISION, all, counts, displs, &
+          MPI_DOUBLE_PRECISION, comm)
+    else
+      call MPI_Allgatherv(x, size(x), MPI_DOUBLE_PRECISION, all, counts, offsets(counts), &
+          MPI_DOUBLE_PRECISION, comm)
     end if
+  end subroutine allgatherv_real
+
+  !> 0-based offsets of consecutive parts of the given sizes.
+  pure function offsets(counts) result(displs)
+    integer, intent(in) :: counts(:)
+    integer :: displs(size(counts))
+    integer :: q
     displs(1) = 0
     do q = 2, size(counts)
       displs(q) = displs(q - 1) + counts(q - 1)
     end do
-    call MPI_Allgatherv(x, size(x), MPI_DOUBLE_PRECISION, all, counts, displs, &
-        MPI_DOUBLE_PRECISION, comm)
-  end subroutine allgatherv_real
+  end function offsets
+
+  !> Gathers every rank's `x` (its own length) into `all` on every rank, in rank order.
+  subroutine allgatherv_int(x, counts, all)
+    integer, intent(in) :: x(:)
+    integer, intent(in) :: counts(:)
+    integer, intent(out) :: all(:)
+    if (nranks == 1) then
+      all(1:size(x)) = x
+      return
+    end if
+    call MPI_Allgatherv(x, size(x), MPI_INTEGER, all, counts, offsets(counts), MPI_INTEGER, &
+        comm)
+  end subroutine allgatherv_int
 
   !> Gathers one integer per rank into `all(nranks)` on every rank.
   subroutine allgather_int(x, all)

@@ -1,22 +1,43 @@
 !> The mass operator of the time loop: a = M^-1 f on the free dofs, and v -> M v.
 !!
-!! Lumped mass: a division by the nodal mass. Consistent mass: a Jacobi-preconditioned
-!! conjugate gradient, warm-started from the caller's previous solution (accelerations change
-!! little from one step to the next). It runs on this rank's rows; the search direction's
-!! ghost values come by halo exchange and the dot products are reproducible global sums, so
-!! the iterates are the same bits on any number of ranks. All work arrays are allocated once
-!! in `mass_op_init`; a solve allocates nothing.
+!! Lumped mass: a division by the nodal mass. Consistent mass, two solvers:
+!!
+!! * MASS_SOLVER_CHOLESKY (the default of the deck): M is factorised once (physics.md §4.1),
+!!   sparse Cholesky in METIS nested-dissection order (ictus_solver_cholesky). Every rank
+!!   holds the factor of the whole M and solves the whole system after an allgather of f, so
+!!   the solution is the same bits on any number of ranks; the memory of the factor does not
+!!   shrink with more ranks.
+!! * MASS_SOLVER_CG: a Jacobi-preconditioned conjugate gradient, warm-started from the
+!!   caller's previous solution, to the relative residual `rtol`. It runs on this rank's rows;
+!!   the search direction's ghost values come by halo exchange and the dot products are
+!!   reproducible global sums, so the iterates are the same bits on any number of ranks.
+!!
+!! All work arrays are allocated once in `mass_op_init`; a solve allocates nothing.
 module ictus_solver_mass_operator
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
   use ictus_parallel_repro, only: repro_dot, repro_sigma, repro_totals, levels
-  use ictus_parallel_env, only: allreduce_max
+  use ictus_parallel_env, only: allreduce_max, allgather_int, allgatherv_int, allgatherv_real, &
+      env_size
   use ictus_parallel_halo, only: halo_exchange
+  use ictus_parallel_partition, only: nested_dissection
+  use ictus_solver_cholesky, only: chol_t, chol_analyse, chol_factor, chol_solve, tail_order
   use ictus_core_memory, only: alloc_stream
+  use ictus_core_errors, only: fatal
+  use ictus_core_logger, only: log_info
+  use ictus_core_strings, only: str
+  use ictus_core_timer, only: wall_time
   use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal, csr_copy
   use ictus_solver_domain, only: domain_t
   implicit none
   private
-  public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added
+  public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, &
+      MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY
+
+  !> Solvers of a consistent mass.
+  integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2
+  !> Largest dense tail of the Cholesky factor (dofs kept in one component only); beyond it
+  !! each component gets a factor of its own.
+  integer, parameter :: max_tail = 4000
 
   type :: mass_op_t
     !> Owned nodes (rows), local nodes (owned + ghost), global nodes.
@@ -44,14 +65,26 @@ module ictus_solver_mass_operator
     integer :: n_solves = 0
     !> Work vectors: residual r (2, nn), direction p (2, nlocal: ghosts by halo), M p in q (2, nn).
     real(dp), allocatable :: r(:,:), p(:,:), q(:,:)
+    !> Consistent-mass solver (MASS_SOLVER_*).
+    integer :: solver = MASS_SOLVER_CG
+    !> Cholesky: the factor(s) of the whole M, the factor of each component, the rank sizes
+    !! of the allgather (2 x owned nodes) and their offsets, the pivot of every gathered node
+    !! and of every owned node, the send buffer (2 nn), the gathered f (2 nglobal), the
+    !! solution in pivot order (2, nglobal) and the solve's work (max_rows, 2).
+    type(chol_t) :: chol
+    integer :: fac(2) = 1
+    integer, allocatable :: counts(:), displs(:), gpiv(:), opiv(:)
+    real(dp), allocatable :: fsend(:), fall(:), x(:,:), xl(:,:)
   end type mass_op_t
 
 contains
 
   !> Sets up the operator for the rows of `dom`. `m` is used only when `consistent`;
   !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero; `rtol` is the
-  !! relative residual at which the conjugate gradient stops (default 1e-12).
-  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol)
+  !! relative residual at which the conjugate gradient stops (default 1e-12); `solver` is a
+  !! MASS_SOLVER_* (default CG). `ierr` (when present) is 0, or 1 when the Cholesky factor
+  !! cannot be made (see `cholesky_init`); without it such a failure is fatal.
+  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr)
     type(mass_op_t), intent(out) :: op
     type(domain_t), intent(in) :: dom
     logical, intent(in) :: consistent
@@ -59,14 +92,19 @@ contains
     real(dp), intent(in) :: m_diag(:)
     logical, intent(in) :: fixed(:,:)
     real(dp), intent(in), optional :: rtol
+    integer, intent(in), optional :: solver
+    integer, intent(out), optional :: ierr
     real(dp), allocatable :: d(:)
-    integer :: i, c, nn
+    integer :: i, c, nn, err
+    character(len=:), allocatable :: msg
     nn = dom%nowned
     op%nn = nn
     op%nlocal = dom%nlocal
     op%nglobal = dom%nn_global
     op%consistent = consistent
     if (present(rtol)) op%rtol = rtol
+    if (present(solver)) op%solver = solver
+    if (present(ierr)) ierr = 0
     op%m_diag = m_diag(1:nn)
     call alloc_stream(op%inv_diag, 2, nn, 0.0_dp)
     call alloc_stream(op%free, 2, dom%nlocal, 0.0_dp)
@@ -102,8 +140,140 @@ contains
       op%inv_max = maxval(op%inv_diag)
       call allreduce_max(op%m_inf)
       call allreduce_max(op%inv_max)
+      if (op%solver == MASS_SOLVER_CHOLESKY) then
+        call cholesky_init(op, dom, d, fixed, err, msg)
+        if (err /= 0) then
+          if (.not. present(ierr)) call fatal('consistent mass', msg)
+          ierr = err
+          call log_info('consistent mass: '//msg)
+        end if
+      end if
     end if
   end subroutine mass_op_init
+
+  !> The Cholesky factor of the whole consistent mass on every rank: the owned rows of every
+  !! rank (global node numbers) are gathered, ordered by METIS nested dissection and
+  !! factorised; a dof is kept when it is free and its node has mass (the CG's rule). The
+  !! components share one factor when their kept dofs are the same, else get one each.
+  !! err = 1 with `msg` when METIS fails, M is not positive definite or memory runs out.
+  subroutine cholesky_init(op, dom, d, fixed, err, msg)
+    type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(in) :: dom
+    real(dp), intent(in) :: d(:)
+    logical, intent(in) :: fixed(:,:)
+    integer, intent(out) :: err
+    character(len=:), allocatable, intent(out) :: msg
+    integer, allocatable :: cnt(:), gid(:), len_all(:), col_all(:), keep_all(:), &
+        row_ptr(:), col(:), order(:), keep_loc(:), rp_aug(:), col_aug(:)
+    real(dp), allocatable :: val_all(:), val(:)
+    logical, allocatable :: keep(:,:)
+    integer :: nn, ng, np, i, k, p, q, c, g, nnz, ntail
+    integer(i8) :: stored
+    real(dp) :: t0
+    err = 0
+    nn = op%nn
+    ng = op%nglobal
+    np = env_size()
+    t0 = wall_time()
+    allocate(cnt(np), op%counts(np), gid(ng), len_all(ng))
+    ! rows: global ids and lengths, then columns (global ids), values and kept dofs
+    call allgather_int(nn, cnt)
+    call allgatherv_int(dom%halo%gid(1:nn), cnt, gid)
+    call allgatherv_int(op%m%g%row_ptr(2:nn + 1) - op%m%g%row_ptr(1:nn), cnt, len_all)
+    nnz = op%m%g%row_ptr(nn + 1) - 1
+    call allgather_int(nnz, op%counts)
+    allocate(col_all(sum(op%counts)), val_all(sum(op%counts)))
+    call allgatherv_int(dom%halo%gid(op%m%g%col(1:nnz)), op%counts, col_all)
+    call allgatherv_real(op%m%val(1:nnz), op%counts, val_all)
+    allocate(keep_loc(2*nn), keep_all(2*ng))
+    do i = 1, nn
+      do c = 1, 2
+        keep_loc(2*(i - 1) + c) = merge(1, 0, .not. fixed(c, i) .and. d(i) > 0.0_dp)
+      end do
+    end do
+    call allgatherv_int(keep_loc, 2*cnt, keep_all)
+    ! the global matrix in the order of the global node numbers
+    allocate(row_ptr(ng + 1), col(size(col_all)), val(size(col_all)), keep(ng, 2))
+    row_ptr(1) = 1
+    do q = 1, ng
+      row_ptr(gid(q) + 1) = len_all(q)
+    end do
+    do g = 1, ng
+      row_ptr(g + 1) = row_ptr(g) + row_ptr(g + 1)
+    end do
+    k = 1
+    do q = 1, ng
+      g = gid(q)
+      p = row_ptr(g)
+      col(p:p + len_all(q) - 1) = col_all(k:k + len_all(q) - 1)
+      val(p:p + len_all(q) - 1) = val_all(k:k + len_all(q) - 1)
+      keep(g, 1) = keep_all(2*q - 1) == 1
+      keep(g, 2) = keep_all(2*q) == 1
+      k = k + len_all(q)
+    end do
+    deallocate(col_all, val_all, keep_all, len_all)
+    ! dofs kept in one component only (e.g. a roller edge) are eliminated last, as one dense
+    ! tail: the factor is shared up to there (ictus_solver_cholesky, chol_t%ntail)
+    ntail = count(keep(:, 1) .neqv. keep(:, 2))
+    op%fac = [1, 1]
+    if (ntail > max_tail) op%fac = [1, 2]
+    if (ntail > max_tail .or. ntail == 0) then
+      allocate(order(ng))
+      call nested_dissection(ng, row_ptr, col, order, err)
+      if (err == 0) call chol_analyse(op%chol, ng, row_ptr, col, order, op%fac(2), err)
+    else
+      call tail_order(ng, row_ptr, col, keep(:, 1) .neqv. keep(:, 2), order, rp_aug, col_aug, &
+          err)
+      if (err == 0) call chol_analyse(op%chol, ng, rp_aug, col_aug, order, 1, err, ntail)
+    end if
+    if (err /= 0) then
+      msg = 'the mass matrix could not be ordered for its Cholesky factor (METIS failed or '// &
+          'the factor has too many rows to index)'
+      return
+    end if
+    if (ntail > 0 .and. ntail <= max_tail) then
+      call chol_factor(op%chol, row_ptr, col, val, keep(:, 1) .or. keep(:, 2), 1, err, keep)
+    else
+      do c = 1, op%fac(2)
+        call chol_factor(op%chol, row_ptr, col, val, keep(:, c), c, err)
+        if (err /= 0) exit
+      end do
+    end if
+    if (err == -1) then
+      msg = 'not enough memory for the Cholesky factor of the mass matrix ('// &
+          str(real(op%chol%nnz, dp)*8.0e-9_dp*op%fac(2), 3)//' GB per rank); use '// &
+          '*DYNAMIC, EXPLICIT, MASS SOLVER=CG'
+      err = 1
+      return
+    else if (err > 0) then
+      msg = 'the mass matrix is not positive definite at node '//str(err)
+      err = 1
+      return
+    end if
+    ! pivots of the gathered nodes and of the owned nodes; work arrays of the solve
+    allocate(op%gpiv(ng), op%opiv(nn))
+    do q = 1, ng
+      op%gpiv(q) = op%chol%inv(gid(q))
+    end do
+    do i = 1, nn
+      op%opiv(i) = op%chol%inv(dom%halo%gid(i))
+    end do
+    op%counts = 2*cnt
+    allocate(op%displs(np))
+    op%displs(1) = 0
+    do q = 2, np
+      op%displs(q) = op%displs(q - 1) + op%counts(q - 1)
+    end do
+    call alloc_stream(op%x, 2, ng, 0.0_dp)
+    allocate(op%fsend(2*nn), op%fall(2*ng), op%xl(op%chol%max_rows, 2))
+    stored = size(op%chol%val, kind=i8)
+    if (allocated(op%chol%tail2)) stored = stored + size(op%chol%tail2, kind=i8)
+    call log_info('consistent mass: Cholesky factor of '//str(ng)//' rows in '// &
+        str(op%chol%nsup)//' supernodes, '//str(op%chol%nnz)//' non-zeros, '// &
+        str(op%chol%ntail)//' rows in the dense tail, '//str(op%fac(2))//' factor(s), '// &
+        str(real(stored, dp)*8.0e-6_dp, 4)//' MB stored on every rank, '// &
+        str(op%chol%flops*op%fac(2), 3)//' flops, '//str(wall_time() - t0, 3)//' s')
+  end subroutine cholesky_init
 
   !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
   !! (bipenalty, physics.md 4.6): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
@@ -152,7 +322,7 @@ contains
     integer, intent(out) :: ierr
     real(dp) :: rz, alpha, beta, fnorm2, rnorm2, pq, rbound, mx(2), tot(2)
     real(dp) :: part(2, levels, 2)
-    integer :: it, nn, nterms
+    integer :: it, nn, nterms, q, i
     ierr = 0
     nn = op%nn
     if (.not. op%consistent) then
@@ -161,6 +331,23 @@ contains
     end if
     op%n_solves = op%n_solves + 1
     op%last_iter = 0
+    if (op%solver == MASS_SOLVER_CHOLESKY) then
+      ! f on the free dofs of every rank's nodes to every rank, solve, take the owned rows
+      do i = 1, nn
+        op%fsend(2*i - 1) = f(1, i)*op%free(1, i)
+        op%fsend(2*i) = f(2, i)*op%free(2, i)
+      end do
+      call allgatherv_real(op%fsend, op%counts, op%fall, op%displs)
+      do q = 1, op%nglobal
+        op%x(1, op%gpiv(q)) = op%fall(2*q - 1)
+        op%x(2, op%gpiv(q)) = op%fall(2*q)
+      end do
+      call chol_solve(op%chol, op%fac, op%x, op%xl)
+      do i = 1, nn
+        a(:, i) = op%x(:, op%opiv(i))
+      end do
+      return
+    end if
     nterms = 2*op%nglobal
     ! residual of the start value
     op%p(:, 1:nn) = a(:, 1:nn)*op%free(:, 1:nn)

@@ -71,7 +71,8 @@ module ictus_solver_model
     real(dp) :: dt = 0.0_dp
     real(dp) :: t_end = 0.0_dp
     real(dp) :: safety = 0.9_dp
-    !> Relative residual of the consistent-mass solve.
+    !> Consistent mass: conjugate gradient (else Cholesky) and its relative residual.
+    logical :: mass_cg = .false.
     real(dp) :: mass_tol = 1.0e-12_dp
     integer :: history_every = 1
     integer :: field_every = 0

@@ -24,11 +24,11 @@ import hertz  # noqa: E402
 STEP = "*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, FIELD, EVERY=20\n*END STEP\n"
 
 
-def fe_deck(etype, mass, extra=""):
+def fe_deck(etype, mass, extra="", step=STEP):
     return ("*HEADING\nparallel determinism\n" + vcheck.material_block()
             + vcheck.rect_mesh(type=etype, nx=12, ny=6, lx=3.0, ly=1.5, distort=0.2)
             + "*BOUNDARY\nLEFT, 1, 2\nRIGHT, 1, 1, 0.01\n*INITIAL CONDITIONS, TYPE=VELOCITY\n"
-            + "BODY, 2, -1.0\nTOP, 1, 0.5\n" + mass + "\n" + extra + STEP)
+            + "BODY, 2, -1.0\nTOP, 1, 0.5\n" + mass + "\n" + extra + step)
 
 
 def iga_deck():
@@ -67,6 +67,8 @@ def main():
     chk = vcheck.Checker("parallel")
     cases = {"q8_hrz_damped": fe_deck("Q8", "*MASS, TYPE=HRZ", "*DAMPING, ALPHA=2.0\n"),
              "q8_consistent": fe_deck("Q8", "*MASS, TYPE=CONSISTENT"),
+             "q8_consistent_cg": fe_deck("Q8", "*MASS, TYPE=CONSISTENT", step=STEP.replace(
+                 "EXPLICIT", "EXPLICIT, MASS SOLVER=CG")),
              "q4_rowsum": fe_deck("Q4", "*MASS, TYPE=ROW SUM"),
              "iga_consistent": iga_deck(),
              "hertz_iga_hrz": hertz.deck(hertz.options(kind="iga", mass="HRZ", subdivide=8,

@@ -215,6 +215,8 @@ contains
     call t%true(d%has_step, 'fe: step')
     call t%true(d%step%dt == 1.0e-6_dp .and. d%step%t_end == 2.0e-3_dp .and. &
         d%step%safety == 0.8_dp, 'fe: dynamic')
+    call t%true(d%step%mass_cg .and. d%step%mass_tol == 1.0e-9_dp, &
+        'fe: MASS SOLVER=CG, MASS TOL=1e-9')
     call t%true(d%step%history_every == 5 .and. d%step%field_every == 100 .and. &
         d%step%restart_every == 1000, 'fe: output and restart')
   end subroutine check_fe_conditions
@@ -283,6 +285,7 @@ contains
     if (d%n_dampings == 1) call t%true(d%dampings(1)%alpha == 0.0_dp, 'patch: damping alpha 0')
     call t%true(d%step%dt == 5.0e-4_dp .and. d%step%t_end == 0.9_dp .and. &
         d%step%safety == 0.9_dp, 'patch: step with default safety')
+    call t%true(.not. d%step%mass_cg, 'patch: default MASS SOLVER=CHOLESKY')
     call t%true(d%step%history_every == 1 .and. d%step%field_every == 0 .and. &
         d%step%restart_every == 0, 'patch: output defaults')
   end subroutine case_patch_deck
@@ -442,7 +445,8 @@ contains
         a%step%t_end == b%step%t_end .and. a%step%safety == b%step%safety .and. &
         a%step%history_every == b%step%history_every .and. &
         a%step%field_every == b%step%field_every .and. &
-        a%step%restart_every == b%step%restart_every
+        a%step%restart_every == b%step%restart_every .and. &
+        (a%step%mass_cg .eqv. b%step%mass_cg) .and. a%step%mass_tol == b%step%mass_tol
     call t%true(same, label//': step')
   end subroutine compare_conditions
 
