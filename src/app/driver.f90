@@ -220,7 +220,12 @@ contains
     if (dom%nparts > 1) call log_info('partition: '//str(dom%nparts)//' METIS parts; rank 0 '// &
         'owns '//str(dom%nowned)//' nodes and reads '//str(dom%nlocal - dom%nowned)//' ghosts')
     if (ops%consistent) then
-      call log_info('mass matrix: consistent (conjugate-gradient solve every step)')
+      if (model%mass_cg) then
+        call log_info('mass matrix: consistent (conjugate-gradient solve every step, '// &
+            'MASS SOLVER=CG)')
+      else
+        call log_info('mass matrix: consistent (solved every step with its Cholesky factor)')
+      end if
     else
       call log_info('mass matrix: lumped (diagonal)')
     end if

@@ -9,12 +9,16 @@
 !! from the start. The advice changes no value; where it is not available (another kernel,
 !! THP switched off) the call fails quietly and the array is an ordinary one.
 !! Measured effect: doc/performance.md §3.1.
+!!
+!! `available_memory` tells a large setup allocation (the Cholesky factor of a consistent
+!! mass) whether it fits, before the kernel's out-of-memory killer decides.
 module ictus_core_memory
   use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_size_t, c_intptr_t, c_loc, c_null_ptr
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_errors, only: warning
   implicit none
   private
-  public :: alloc_stream
+  public :: alloc_stream, available_memory
 
   !> Linux <asm-generic/mman-common.h>: MADV_HUGEPAGE.
   integer(c_int), parameter :: madv_hugepage = 14_c_int
@@ -90,4 +94,45 @@ contains
     if (last <= first) return
     ierr = c_madvise(transfer(first, c_null_ptr), int(last - first, c_size_t), madv_hugepage)
   end subroutine advise_huge
+
+  !> Bytes of memory still available on this node: MemAvailable of /proc/meminfo, capped by
+  !! the environment variable ICTUS_MEMORY_LIMIT_MB when it is set (a batch job's limit,
+  !! which /proc/meminfo does not show); -1 when neither is known.
+  function available_memory() result(bytes)
+    integer(i8) :: bytes
+    character(len=256) :: line, ev
+    integer :: u, ios, st, n
+    integer(i8) :: kb
+    real(dp) :: mb
+    bytes = -1
+    open(newunit=u, file='/proc/meminfo', status='old', action='read', iostat=ios)
+    if (ios == 0) then
+      do
+        read(u, '(a)', iostat=ios) line
+        if (ios /= 0) exit
+        if (line(1:13) == 'MemAvailable:') then
+          read(line(14:), *, iostat=st) kb
+          if (st == 0) bytes = kb*1024_i8
+          exit
+        end if
+      end do
+      close(u)
+    end if
+    call get_environment_variable('ICTUS_MEMORY_LIMIT_MB', ev, length=n, status=st)
+    if (st /= 0 .or. n == 0) return
+    ! a plain decimal number (no exponent: nothing can overflow)
+    mb = -1.0_dp
+    if (verify(trim(ev), '0123456789.') == 0 .and. len_trim(ev) <= 12) then
+      read(ev, *, iostat=ios) mb
+      if (ios /= 0) mb = -1.0_dp
+    end if
+    if (.not. mb > 0.0_dp) then
+      call warning('ICTUS_MEMORY_LIMIT_MB', 'expected a plain number of megabytes > 0 '// &
+          '(digits and a point), got "'//trim(ev)//'"; ignored')
+    else if (bytes < 0) then
+      bytes = int(mb*1024.0_dp**2, i8)
+    else
+      bytes = min(bytes, int(mb*1024.0_dp**2, i8))
+    end if
+  end function available_memory
 end module ictus_core_memory

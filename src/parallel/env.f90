@@ -6,13 +6,13 @@ module ictus_parallel_env
       MPI_Allreduce, MPI_Bcast, MPI_Barrier, MPI_IN_PLACE, MPI_SUM, MPI_MAX, MPI_MIN, &
       MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INTEGER8, MPI_CHARACTER, MPI_LOGICAL, MPI_LOR, &
       MPI_Request, MPI_Isend, MPI_Irecv, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Alltoall, &
-      MPI_Allgatherv, MPI_Allgather
+      MPI_Allgatherv, MPI_Allgather, MPI_Comm_split_type, MPI_COMM_TYPE_SHARED
   use ictus_core_kinds, only: dp, i8
   use ictus_core_errors, only: stop_hook, set_error_prefix
   use ictus_core_logger, only: log_set_root
   implicit none
   private
-  public :: env_init, env_finalize, env_rank, env_size, env_is_root, env_comm_f, &
+  public :: env_init, env_finalize, env_rank, env_size, env_node_size, env_is_root, env_comm_f, &
       env_info_null_f, allreduce_sum, allreduce_max, allreduce_min, allreduce_or, bcast, barrier, &
       alltoall_int, exchange, allgatherv_real, allgatherv_int, allgather_int
 
@@ -41,6 +41,8 @@ module ictus_parallel_env
   type(MPI_Comm) :: comm
   integer :: rank = 0
   integer :: nranks = 1
+  !> Ranks on this rank's node (shared memory).
+  integer :: node_ranks = 1
   logical :: started = .false.
 
 contains
@@ -48,11 +50,15 @@ contains
   !> Starts MPI (if not yet started), duplicates the world communicator and sets the hooks.
   subroutine env_init()
     logical :: flag
+    type(MPI_Comm) :: node_comm
     call MPI_Initialized(flag)
     if (.not. flag) call MPI_Init()
     call MPI_Comm_dup(MPI_COMM_WORLD, comm)
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
+    call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, node_comm)
+    call MPI_Comm_size(node_comm, node_ranks)
+    call MPI_Comm_free(node_comm)
     started = .true.
     call set_error_prefix(rank == 0)
     call log_set_root(rank == 0)
@@ -81,6 +87,11 @@ contains
   integer function env_rank()
     env_rank = rank
   end function env_rank
+
+  !> Number of ranks on this rank's node (they share its memory).
+  integer function env_node_size()
+    env_node_size = node_ranks
+  end function env_node_size
 
   integer function env_size()
     env_size = nranks

@@ -17,11 +17,11 @@ module ictus_solver_mass_operator
   use ictus_core_kinds, only: dp, i8
   use ictus_parallel_repro, only: repro_dot, repro_sigma, repro_totals, levels
   use ictus_parallel_env, only: allreduce_max, allgather_int, allgatherv_int, allgatherv_real, &
-      env_size
+      env_size, env_node_size
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_partition, only: nested_dissection
   use ictus_solver_cholesky, only: chol_t, chol_analyse, chol_factor, chol_solve, tail_order
-  use ictus_core_memory, only: alloc_stream
+  use ictus_core_memory, only: alloc_stream, available_memory
   use ictus_core_errors, only: fatal
   use ictus_core_logger, only: log_info
   use ictus_core_strings, only: str
@@ -95,7 +95,7 @@ contains
     integer, intent(in), optional :: solver
     integer, intent(out), optional :: ierr
     real(dp), allocatable :: d(:)
-    integer :: i, c, nn, err
+    integer :: i, c, nn, err, e
     character(len=:), allocatable :: msg
     nn = dom%nowned
     op%nn = nn
@@ -142,9 +142,13 @@ contains
       call allreduce_max(op%inv_max)
       if (op%solver == MASS_SOLVER_CHOLESKY) then
         call cholesky_init(op, dom, d, fixed, err, msg)
-        if (err /= 0) then
-          if (.not. present(ierr)) call fatal('consistent mass', msg)
-          ierr = err
+        ! one decision for all ranks (a rank alone must not stop)
+        e = merge(1, 0, err /= 0)
+        call allreduce_max(e)
+        if (e /= 0) then
+          if (err == 0) msg = 'the Cholesky factor of the mass matrix failed on another rank'
+          if (.not. present(ierr)) call fatal('consistent mass', msg, 1)
+          ierr = 1
           call log_info('consistent mass: '//msg)
         end if
       end if
@@ -168,8 +172,8 @@ contains
     real(dp), allocatable :: val_all(:), val(:)
     logical, allocatable :: keep(:,:)
     integer :: nn, ng, np, i, k, p, q, c, g, nnz, ntail
-    integer(i8) :: stored
-    real(dp) :: t0
+    integer(i8) :: stored, need, avail
+    real(dp) :: t0, mem(2)
     err = 0
     nn = op%nn
     ng = op%nglobal
@@ -229,6 +233,23 @@ contains
     if (err /= 0) then
       msg = 'the mass matrix could not be ordered for its Cholesky factor (METIS failed or '// &
           'the factor has too many rows to index)'
+      return
+    end if
+    ! memory: the factor, the update stack and the largest update matrix, on every rank of
+    ! the node; refused before allocating when it does not fit (the same decision on all ranks)
+    need = 8*(op%chol%val_ptr(op%chol%nsup + 1)*op%fac(2) + op%chol%stack_size + &
+        op%chol%w_size + int(op%chol%ntail, i8)**2)
+    mem(1) = real(need, dp)*env_node_size()
+    mem(2) = -huge(1.0_dp)
+    avail = available_memory()
+    if (avail >= 0) mem(2) = -real(avail, dp)
+    call allreduce_max(mem)
+    if (mem(2) > -huge(1.0_dp) .and. mem(1) > -mem(2)) then
+      err = 1
+      msg = 'the Cholesky factor of the mass matrix needs '//str(real(need, dp)/1.0e6_dp, 4)// &
+          ' MB on each of the '//str(env_node_size())//' rank(s) of a node, but '// &
+          str(-mem(2)/1.0e6_dp, 4)//' MB are available (ICTUS_MEMORY_LIMIT_MB, /proc/meminfo)'// &
+          '; use *DYNAMIC, EXPLICIT, MASS SOLVER=CG (no factor), or fewer ranks per node'
       return
     end if
     if (ntail > 0 .and. ntail <= max_tail) then
