@@ -1,25 +1,31 @@
-!> The consistent-mass solve (Jacobi PCG with fixed dofs) against a dense LAPACK solve, and
-!! the lumped solve.
+!> The consistent-mass solves (Jacobi PCG, and the Cholesky factor) with fixed dofs against a
+!! dense LAPACK solve, and the lumped solve.
 program test_mass_operator
   use ictus_core_kinds, only: dp
   use ictus_solver_sparse, only: graph_t, csr_t, graph_from_elements, csr_init, &
       csr_add_element
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_apply
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_apply, &
+      MASS_SOLVER_CHOLESKY
   use ictus_solver_domain, only: domain_t, domain_init_serial
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
+  !> Nodes of the chain of the consistent-mass tests.
+  integer, parameter :: nch = 20
   call t%start("solver/mass_operator")
   call test_consistent(t)
+  call test_cholesky(t)
   call test_lumped(t)
   call t%finish()
 contains
 
-  !> A 1D chain of linear "elements" with the consistent mass (h/6)[2 1; 1 2], 20 nodes.
-  subroutine build_chain(nn, m, md)
-    integer, intent(in) :: nn
+  !> A 1D chain of nn = nch linear "elements" with the consistent mass (h/6)[2 1; 1 2]
+  !! (sparse m and dense md), its one-rank domain and a load f(2, nn).
+  subroutine build_chain(m, md, dom, f)
+    integer, parameter :: nn = nch
     type(csr_t), intent(out) :: m
-    real(dp), intent(out) :: md(nn, nn)
+    real(dp), intent(out) :: md(nn, nn), f(2, nn)
+    type(domain_t), intent(out) :: dom
     integer :: conn(2, nn - 1), nen(nn - 1), e
     real(dp) :: me(2, 2)
     type(graph_t) :: g
@@ -36,26 +42,26 @@ contains
       call csr_add_element(m, 2, conn(:, e), me)
       md(e:e + 1, e:e + 1) = md(e:e + 1, e:e + 1) + me
     end do
+    call domain_init_serial(dom, nn)
+    do e = 1, nn
+      f(:, e) = [sin(real(e, dp)), cos(real(3*e, dp))]
+    end do
   end subroutine build_chain
 
   subroutine test_consistent(t)
     type(checker_t), intent(inout) :: t
-    integer, parameter :: nn = 20
+    integer, parameter :: nn = nch
     type(csr_t) :: m
     type(mass_op_t) :: op
     type(domain_t) :: dom
     real(dp) :: md(nn, nn), f(2, nn), a(2, nn), rhs(nn - 1, 2), mdf(nn - 1, nn - 1), mv(2, nn)
     logical :: fixed(2, nn)
     integer :: ipiv(nn - 1), info, i, ierr, iters_tight
-    call build_chain(nn, m, md)
+    call build_chain(m, md, dom, f)
     fixed = .false.
     fixed(1, 1) = .true.
     fixed(2, nn) = .true.
-    call domain_init_serial(dom, nn)
     call mass_op_init(op, dom, .true., m, [(1.0_dp, i = 1, nn)], fixed)
-    do i = 1, nn
-      f(:, i) = [sin(real(i, dp)), cos(real(3*i, dp))]
-    end do
     a = 0.0_dp
     call mass_solve(op, dom, f, a, ierr)
     call t%equal_int(ierr, 0, "PCG converged")
@@ -90,6 +96,51 @@ contains
     call t%true(norm2(mv) > 1.0e-12_dp*norm2(f*op%free), &
         "residual above 1e-12 |f| (the solve stopped early)")
   end subroutine test_consistent
+
+  !> MASS_SOLVER_CHOLESKY on the same chain: (a) x fixed at node 1, y at node nn (the two
+  !! nodes form the dense tail of the factor); (b) both fixed at node 1 and node 7 (no tail).
+  !! Each component must equal the dense solve on its free dofs to round-off.
+  subroutine test_cholesky(t)
+    type(checker_t), intent(inout) :: t
+    character(len=*), parameter :: label(2) = ['tail   ', 'no tail']
+    integer, parameter :: nn = nch
+    real(dp) :: md(nn, nn), f(2, nn), a(2, nn), x(nn), mdf(nn, nn), err
+    logical :: fixed(2, nn), free(nn)
+    integer :: ipiv(nn), info, i, c, k, nf, ierr, idx(nn)
+    type(csr_t) :: m
+    type(domain_t) :: dom
+    type(mass_op_t) :: op
+    call build_chain(m, md, dom, f)
+    do k = 1, 2
+      fixed = .false.
+      if (k == 1) then
+        fixed(1, 1) = .true.
+        fixed(2, nn) = .true.
+      else
+        fixed(:, 1) = .true.
+        fixed(:, 7) = .true.
+      end if
+      call mass_op_init(op, dom, .true., m, [(1.0_dp, i = 1, nn)], fixed, &
+          solver=MASS_SOLVER_CHOLESKY, ierr=ierr)
+      call t%equal_int(ierr, 0, trim(label(k))//": factorised")
+      call t%equal_int(op%chol%ntail, merge(2, 0, k == 1), trim(label(k))//": tail size")
+      a = 0.0_dp
+      call mass_solve(op, dom, f, a, ierr)
+      do c = 1, 2
+        free = .not. fixed(c, :)
+        nf = count(free)
+        idx(1:nf) = pack([(i, i = 1, nn)], free)
+        mdf(1:nf, 1:nf) = md(idx(1:nf), idx(1:nf))
+        x(1:nf) = f(c, idx(1:nf))
+        call dgesv(nf, 1, mdf, nn, ipiv, x, nn, info)
+        err = maxval(abs(a(c, idx(1:nf)) - x(1:nf)))/maxval(abs(x(1:nf)))
+        call t%close_abs(err, 0.0_dp, 1.0e-13_dp, trim(label(k))//": component "// &
+            char(48 + c)//" = dense solve on its free dofs")
+        call t%true(all(a(c, :) == 0.0_dp .or. free), trim(label(k))//": component "// &
+            char(48 + c)//" is 0 on its fixed dofs")
+      end do
+    end do
+  end subroutine test_cholesky
 
   subroutine test_lumped(t)
     type(checker_t), intent(inout) :: t
