@@ -167,7 +167,7 @@ contains
     logical, intent(in) :: fixed(:,:)
     integer, intent(out) :: err
     character(len=:), allocatable, intent(out) :: msg
-    integer, allocatable :: cnt(:), gid(:), len_all(:), col_all(:), keep_all(:), &
+    integer, allocatable :: cnt(:), ncnt(:), gid(:), len_all(:), col_all(:), keep_all(:), &
         row_ptr(:), col(:), order(:), keep_loc(:), rp_aug(:), col_aug(:)
     real(dp), allocatable :: val_all(:), val(:)
     logical, allocatable :: keep(:,:)
@@ -179,16 +179,16 @@ contains
     ng = op%nglobal
     np = env_size()
     t0 = wall_time()
-    allocate(cnt(np), op%counts(np), gid(ng), len_all(ng))
+    allocate(cnt(np), ncnt(np), gid(ng), len_all(ng))
     ! rows: global ids and lengths, then columns (global ids), values and kept dofs
     call allgather_int(nn, cnt)
     call allgatherv_int(dom%halo%gid(1:nn), cnt, gid)
     call allgatherv_int(op%m%g%row_ptr(2:nn + 1) - op%m%g%row_ptr(1:nn), cnt, len_all)
     nnz = op%m%g%row_ptr(nn + 1) - 1
-    call allgather_int(nnz, op%counts)
-    allocate(col_all(sum(op%counts)), val_all(sum(op%counts)))
-    call allgatherv_int(dom%halo%gid(op%m%g%col(1:nnz)), op%counts, col_all)
-    call allgatherv_real(op%m%val(1:nnz), op%counts, val_all)
+    call allgather_int(nnz, ncnt)
+    allocate(col_all(sum(ncnt)), val_all(sum(ncnt)))
+    call allgatherv_int(dom%halo%gid(op%m%g%col(1:nnz)), ncnt, col_all)
+    call allgatherv_real(op%m%val(1:nnz), ncnt, val_all)
     allocate(keep_loc(2*nn), keep_all(2*ng))
     do i = 1, nn
       do c = 1, 2
@@ -280,11 +280,7 @@ contains
       op%opiv(i) = op%chol%inv(dom%halo%gid(i))
     end do
     op%counts = 2*cnt
-    allocate(op%displs(np))
-    op%displs(1) = 0
-    do q = 2, np
-      op%displs(q) = op%displs(q - 1) + op%counts(q - 1)
-    end do
+    op%displs = [0, (sum(op%counts(1:q)), q = 1, np - 1)]
     call alloc_stream(op%x, 2, ng, 0.0_dp)
     allocate(op%fsend(2*nn), op%fall(2*ng), op%xl(op%chol%max_rows, 2))
     stored = size(op%chol%val, kind=i8)
