@@ -119,7 +119,8 @@ contains
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
     call mass_solve(mop, dom, s%f, s%a, s%ierr)
-    s%v_old(:, 1:nn) = s%v(:, 1:nn)
+    ! v_{n-1/2} is needed only for the mean velocity (damping, energies)
+    if (s%damped .or. record) s%v_old(:, 1:nn) = s%v(:, 1:nn)
     if (s%damped) then
       do i = 1, nn
         h = 0.5_dp*s%alpha(i)*dt
