@@ -28,8 +28,7 @@ program ictus_bench
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_assemble, only: operators_t, assemble_operators
   use ictus_solver_sparse, only: bsr_matvec
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, MASS_SOLVER_CG, &
-      MASS_SOLVER_CHOLESKY
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
@@ -97,7 +96,7 @@ program ictus_bench
   call build_contact(deck, model, contact)
   if (error_count() > 0 .or. nbad > 0) call terminate(1)
   call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, model%fixed(:, dom%halo%gid), &
-      model%mass_tol, merge(MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, model%mass_cg))
+      model%mass_tol, model%mass_solver, passes=model%mass_passes)
   dt = model%dt
   if (.not. dt > 0.0_dp) then
     ! automatic step as in a run: 0.9 (the default safety) of 2/omega_max

@@ -13,7 +13,7 @@ module ictus_app_build_model
       patch_side_points
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA, etype_name
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
-  use ictus_solver_model, only: model_t
+  use ictus_solver_model, only: model_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
@@ -60,7 +60,15 @@ contains
       model%t_end = deck%step%t_end
       model%safety = deck%step%safety
       model%mass_tol = deck%step%mass_tol
-      model%mass_cg = deck%step%mass_cg
+      select case (deck%step%mass_solver)
+      case ('CG')
+        model%mass_solver = MASS_SOLVER_CG
+      case ('CORRECTOR')
+        model%mass_solver = MASS_SOLVER_CORRECTOR
+      case default
+        model%mass_solver = MASS_SOLVER_CHOLESKY
+      end select
+      model%mass_passes = deck%step%mass_passes
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
       model%restart_every = deck%step%restart_every

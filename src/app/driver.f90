@@ -19,8 +19,8 @@ module ictus_app_driver
   use ictus_solver_model, only: model_t
   use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
   use ictus_solver_domain, only: domain_t, domain_init
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, MASS_SOLVER_CG, &
-      MASS_SOLVER_CHOLESKY
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, MASS_SOLVER_CG, &
+      MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
@@ -80,9 +80,18 @@ contains
     if (error_count() > 0) call input_failure()
     call build_contact(deck, model, contact)
     if (error_count() > 0) call input_failure()
+    if (ops%consistent .and. model%mass_solver == MASS_SOLVER_CORRECTOR) then
+      r1 = mass_min_entry(ops%m, dom%nowned)
+      if (r1 < 0.0_dp) call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: '// &
+          'MASS SOLVER=CORRECTOR needs a consistent mass without negative entries (its row '// &
+          'sums precondition the passes), but this one has entries down to '//str(r1)// &
+          ': the consistent mass of Q8 and Q9 elements has negative entries. Use '// &
+          'MASS SOLVER=CHOLESKY or CG, or TYPE=CONSISTENT only on patches and Q4 elements')
+      if (error_count() > 0) call input_failure()
+    end if
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
-        model%fixed(:, dom%halo%gid), model%mass_tol, &
-        merge(MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, model%mass_cg))
+        model%fixed(:, dom%halo%gid), model%mass_tol, model%mass_solver, &
+        passes=model%mass_passes)
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
@@ -220,12 +229,16 @@ contains
     if (dom%nparts > 1) call log_info('partition: '//str(dom%nparts)//' METIS parts; rank 0 '// &
         'owns '//str(dom%nowned)//' nodes and reads '//str(dom%nlocal - dom%nowned)//' ghosts')
     if (ops%consistent) then
-      if (model%mass_cg) then
+      select case (model%mass_solver)
+      case (MASS_SOLVER_CG)
         call log_info('mass matrix: consistent (conjugate-gradient solve every step, '// &
             'MASS SOLVER=CG)')
-      else
+      case (MASS_SOLVER_CORRECTOR)
+        call log_info('mass matrix: consistent, approximated by '//str(model%mass_passes)// &
+            ' row-sum-preconditioned corrector passes every step (MASS SOLVER=CORRECTOR)')
+      case default
         call log_info('mass matrix: consistent (solved every step with its Cholesky factor)')
-      end if
+      end select
     else
       call log_info('mass matrix: lumped (diagonal)')
     end if
@@ -434,6 +447,9 @@ contains
         ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
         'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
+    if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) call log_info( &
+        'consistent mass: '//str(mop%n_solves)//' approximate solves of '// &
+        str(mop%passes)//' corrector passes')
     call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
         ' steps')
     call results_close(res, 'completed')

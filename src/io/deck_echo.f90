@@ -306,13 +306,17 @@ contains
     type(text_t), intent(inout) :: t
     if (.not. d%has_step) return
     call put(t, '*STEP')
-    if (d%step%mass_cg) then
+    select case (d%step%mass_solver)
+    case ('CG')
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
           ', MASS SOLVER=CG, MASS TOL='//real_text(d%step%mass_tol))
-    else
+    case ('CORRECTOR')
+      call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
+          ', MASS SOLVER=CORRECTOR, MASS PASSES='//str(d%step%mass_passes))
+    case default
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
           ', MASS SOLVER=CHOLESKY')
-    end if
+    end select
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
     if (d%step%field_every == 0) then

@@ -1347,19 +1347,22 @@ contains
     d%step%where = c%where
   end subroutine read_step
 
-  !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG] [, MASS TOL=tol]: one data
-  !! line "dt, t_end". MASS TOL is the tolerance of the conjugate gradient, so it needs
-  !! MASS SOLVER=CG.
+  !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG|CORRECTOR] [, MASS TOL=tol]
+  !! [, MASS PASSES=k]: one data line "dt, t_end". MASS TOL is the tolerance of the conjugate
+  !! gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the corrector's passes, so it
+  !! needs MASS SOLVER=CORRECTOR.
   subroutine read_dynamic(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
     character(len=*), parameter :: expect = '*DYNAMIC: expected 2 numbers (dt, t_end)'
+    character(len=*), parameter :: solvers(3) = [character(len=9) :: 'CHOLESKY', 'CG', &
+        'CORRECTOR']
     real(dp) :: v(2), s(1)
-    integer :: i, k
-    logical :: tol_given
+    integer :: i, k, np(1)
+    logical :: tol_given, passes_given
 
-    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER', 'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -1378,13 +1381,27 @@ contains
         d%step%mass_tol = s(1)
       end if
     end if
-    call get_choice(c, 'MASS SOLVER', 'CHOLESKY|CG', k)
-    d%step%mass_cg = k == 2
-    if (tol_given .and. .not. d%step%mass_cg) call card_error(c, &
+    np = 0
+    passes_given = get_ints(c, 'MASS PASSES', 1, 'an integer in [1, 50]', np)
+    if (passes_given) then
+      if (np(1) < 1 .or. np(1) > 50) then
+        call card_error(c, 'MASS PASSES='//str(np(1))//' outside [1, 50] (corrector '// &
+            'passes of the consistent-mass solve)')
+      else
+        d%step%mass_passes = np(1)
+      end if
+    end if
+    call get_choice(c, 'MASS SOLVER', 'CHOLESKY|CG|CORRECTOR', k)
+    if (k > 0) d%step%mass_solver = solvers(k)
+    if (tol_given .and. d%step%mass_solver /= 'CG') call card_error(c, &
         'MASS TOL is the tolerance of the conjugate gradient: add MASS SOLVER=CG (the '// &
+        'default MASS SOLVER=CHOLESKY solves exactly)')
+    if (passes_given .and. d%step%mass_solver /= 'CORRECTOR') call card_error(c, &
+        'MASS PASSES counts the passes of the corrector: add MASS SOLVER=CORRECTOR (the '// &
         'default MASS SOLVER=CHOLESKY solves exactly)')
     if (rd%has_dynamic) call card_error(c, 'a second *DYNAMIC in the step')
     rd%has_dynamic = .true.
+    d%step%dynamic_where = c%where
     if (c%bad) return
     if (.not. one_line(c, rd, expect, i)) return
     if (.not. line_reals(rd, i, 2, expect, v)) return

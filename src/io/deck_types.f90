@@ -171,15 +171,19 @@ module ictus_io_deck_types
     real(dp) :: safety = 0.9_dp
     !> Relative residual at which the consistent-mass conjugate gradient stops (MASS TOL=).
     real(dp) :: mass_tol = 1.0e-12_dp
-    !> MASS SOLVER=CG (else the default CHOLESKY: M factorised once).
-    logical :: mass_cg = .false.
+    !> MASS SOLVER=CHOLESKY (default: M factorised once), CG or CORRECTOR.
+    character(len=16) :: mass_solver = 'CHOLESKY'
+    !> Corrector passes of MASS SOLVER=CORRECTOR (MASS PASSES=).
+    integer :: mass_passes = 2
     !> History output every n steps (default 1).
     integer :: history_every = 1
     !> Field output every n steps (0 = default: 20 snapshots over the run).
     integer :: field_every = 0
     !> Checkpoint every n steps (0 = none).
     integer :: restart_every = 0
+    !> "file:line" of *STEP and of *DYNAMIC.
     character(len=where_len) :: where = ''
+    character(len=where_len) :: dynamic_where = ''
   end type step_in_t
 
   !> *CONTACT PAIR.

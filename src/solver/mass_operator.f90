@@ -11,6 +11,14 @@
 !!   caller's previous solution, to the relative residual `rtol`. It runs on this rank's rows;
 !!   the search direction's ghost values come by halo exchange and the dot products are
 !!   reproducible global sums, so the iterates are the same bits on any number of ranks.
+!! * MASS_SOLVER_CORRECTOR: a fixed number k of passes x <- x + D^-1 (f - M x) from
+!!   x = D^-1 f, with D the row sums of M (predictor/multi-corrector, physics.md §3.4). This is
+!!   not a converged solve but a fixed approximate inverse M_k^-1 = sum_{j=0..k}
+!!   (I - D^-1 M)^j D^-1: symmetric, between D^-1 and M^-1 in the Loewner order when M has no
+!!   negative entries (then the eigenvalues of D^-1 M lie in (0, 1]), so it is positive
+!!   definite, conserves momentum exactly and keeps the stable step between the row-sum and
+!!   the consistent one; smooth modes see the error (1 - s)^(k+1) of the mass symbol s
+!!   (doc/theory.md §5). Each pass is one product with M after a halo exchange; no global sum.
 !!
 !! All work arrays are allocated once in `mass_op_init`; a solve allocates nothing.
 module ictus_solver_mass_operator
@@ -26,15 +34,14 @@ module ictus_solver_mass_operator
   use ictus_core_logger, only: log_info
   use ictus_core_strings, only: str
   use ictus_core_timer, only: wall_time
-  use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal, csr_copy
+  use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal, csr_row_sums, csr_copy
   use ictus_solver_domain, only: domain_t
+  use ictus_solver_model, only: MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
   implicit none
   private
   public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, &
-      MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY
+      mass_min_entry, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
 
-  !> Solvers of a consistent mass.
-  integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2
   !> Largest dense tail of the Cholesky factor (dofs kept in one component only); beyond it
   !! each component gets a factor of its own.
   integer, parameter :: max_tail = 4000
@@ -49,7 +56,8 @@ module ictus_solver_mass_operator
     type(csr_t) :: m
     !> Lumped masses (owned nodes).
     real(dp), allocatable :: m_diag(:)
-    !> 1/m on free dofs, 0 on fixed dofs and massless nodes (2, nn); also the preconditioner.
+    !> 1/m on free dofs, 0 on fixed dofs and massless nodes (2, nn); also the preconditioner
+    !! (for a consistent mass m is its diagonal, or with the corrector its row sum).
     real(dp), allocatable :: inv_diag(:,:)
     !> 1 on free dofs, 0 on fixed ones (2, nlocal).
     real(dp), allocatable :: free(:,:)
@@ -73,6 +81,12 @@ module ictus_solver_mass_operator
     !! solution in pivot order (2, nglobal) and the solve's work (max_rows, 2).
     type(chol_t) :: chol
     integer :: fac(2) = 1
+    !> Corrector: passes k, the second and third iterates (2, nlocal) next to p, the half
+    !! bandwidth of M, and whether two passes share one sweep (no ghosts: one rank).
+    integer :: passes = 2
+    real(dp), allocatable :: xs(:,:), xt(:,:)
+    integer :: bw = 0
+    logical :: paired = .false.
     integer, allocatable :: counts(:), displs(:), gpiv(:), opiv(:)
     real(dp), allocatable :: fsend(:), fall(:), x(:,:), xl(:,:)
   end type mass_op_t
@@ -82,9 +96,10 @@ contains
   !> Sets up the operator for the rows of `dom`. `m` is used only when `consistent`;
   !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero; `rtol` is the
   !! relative residual at which the conjugate gradient stops (default 1e-12); `solver` is a
-  !! MASS_SOLVER_* (default CG). `ierr` (when present) is 0, or 1 when the Cholesky factor
-  !! cannot be made (see `cholesky_init`); without it such a failure is fatal.
-  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr)
+  !! MASS_SOLVER_* (default CG); `passes` the corrector's k (default 2). `ierr` (when
+  !! present) is 0, or 1 when the Cholesky factor cannot be made (see `cholesky_init`) or the
+  !! corrector meets a negative entry of M; without it such a failure is fatal.
+  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr, passes)
     type(mass_op_t), intent(out) :: op
     type(domain_t), intent(in) :: dom
     logical, intent(in) :: consistent
@@ -94,6 +109,7 @@ contains
     real(dp), intent(in), optional :: rtol
     integer, intent(in), optional :: solver
     integer, intent(out), optional :: ierr
+    integer, intent(in), optional :: passes
     real(dp), allocatable :: d(:)
     integer :: i, c, nn, err, e
     character(len=:), allocatable :: msg
@@ -104,6 +120,7 @@ contains
     op%consistent = consistent
     if (present(rtol)) op%rtol = rtol
     if (present(solver)) op%solver = solver
+    if (present(passes)) op%passes = passes
     if (present(ierr)) ierr = 0
     op%m_diag = m_diag(1:nn)
     call alloc_stream(op%inv_diag, 2, nn, 0.0_dp)
@@ -111,7 +128,19 @@ contains
     allocate(d(nn))
     if (consistent) then
       call csr_copy(op%m, m)
-      call csr_diagonal(m, d)
+      if (op%solver == MASS_SOLVER_CORRECTOR) then
+        call csr_row_sums(m, d)
+        call alloc_stream(op%xs, 2, dom%nlocal, 0.0_dp)
+        op%paired = dom%nlocal == nn
+        if (op%paired .and. op%passes > 2) call alloc_stream(op%xt, 2, dom%nlocal, 0.0_dp)
+        do i = 1, nn
+          c = m%g%row_ptr(i)
+          if (m%g%row_ptr(i + 1) > c) op%bw = max(op%bw, maxval(abs(m%g%col(c: &
+              m%g%row_ptr(i + 1) - 1) - i)))
+        end do
+      else
+        call csr_diagonal(m, d)
+      end if
       call alloc_stream(op%r, 2, nn, 0.0_dp)
       call alloc_stream(op%q, 2, nn, 0.0_dp)
       call alloc_stream(op%p, 2, dom%nlocal, 0.0_dp)
@@ -140,13 +169,21 @@ contains
       op%inv_max = maxval(op%inv_diag)
       call allreduce_max(op%m_inf)
       call allreduce_max(op%inv_max)
-      if (op%solver == MASS_SOLVER_CHOLESKY) then
+      err = 0
+      if (op%solver == MASS_SOLVER_CORRECTOR) then
+        if (mass_min_entry(m, nn) < 0.0_dp) then
+          err = 1
+          msg = 'MASS SOLVER=CORRECTOR needs a mass matrix without negative entries'
+        end if
+      else if (op%solver == MASS_SOLVER_CHOLESKY) then
         call cholesky_init(op, dom, d, fixed, err, msg)
+      end if
+      if (op%solver /= MASS_SOLVER_CG) then
         ! one decision for all ranks (a rank alone must not stop)
         e = merge(1, 0, err /= 0)
         call allreduce_max(e)
         if (e /= 0) then
-          if (err == 0) msg = 'the Cholesky factor of the mass matrix failed on another rank'
+          if (err == 0) msg = 'the set-up of the mass solve failed on another rank'
           if (.not. present(ierr)) call fatal('consistent mass', msg, 1)
           ierr = 1
           call log_info('consistent mass: '//msg)
@@ -292,6 +329,17 @@ contains
         str(op%chol%flops*op%fac(2), 3)//' flops, '//str(wall_time() - t0, 3)//' s')
   end subroutine cholesky_init
 
+  !> The smallest entry of the owned rows (1..nn) of a scalar CSR matrix, over all ranks.
+  function mass_min_entry(m, nn) result(vmin)
+    type(csr_t), intent(in) :: m
+    integer, intent(in) :: nn
+    real(dp) :: vmin, t(1)
+    t(1) = 0.0_dp
+    if (nn > 0) t(1) = -minval(m%val(1:m%g%row_ptr(nn + 1) - 1))
+    call allreduce_max(t)
+    vmin = -t(1)
+  end function mass_min_entry
+
   !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
   !! (bipenalty, physics.md 4.6): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
   !! 1/m_i. Massless nodes and fixed dofs keep 0; m_diag (the kinetic energy and mass_apply)
@@ -365,6 +413,41 @@ contains
       end do
       return
     end if
+    if (op%solver == MASS_SOLVER_CORRECTOR) then
+      ! x = D^-1 f, then k passes x <- x + D^-1 (f - M x), the last one into a. Several
+      ! ranks: one pass per sweep, the iterates alternate between p and xs, whose ghosts come
+      ! by halo exchange before each product. One rank: two passes per sweep over M
+      ! (`corrector_pair`), the same operations row by row, so the same bits.
+      op%p(:, 1:nn) = f(:, 1:nn)*op%inv_diag
+      it = op%passes
+      do while (it > 0)
+        if (op%paired .and. it >= 2) then
+          if (it == 2) then
+            call corrector_pair(nn, op%bw, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, f, &
+                op%inv_diag, op%xs, a)
+          else
+            call corrector_pair(nn, op%bw, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, f, &
+                op%inv_diag, op%xs, op%xt)
+            call swap_iterates(op, third=.true.)
+          end if
+          it = it - 2
+        else
+          call halo_exchange(dom%halo, op%p)
+          if (it == 1) then
+            call corrector_pass(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, f, &
+                op%inv_diag, a)
+          else
+            call corrector_pass(nn, op%m%g%row_ptr, op%m%g%col, op%m%val, op%p, f, &
+                op%inv_diag, op%xs)
+            call swap_iterates(op)
+          end if
+          it = it - 1
+        end if
+      end do
+      op%last_iter = op%passes
+      op%total_iter = op%total_iter + op%passes
+      return
+    end if
     nterms = 2*op%nglobal
     ! residual of the start value
     op%p(:, 1:nn) = a(:, 1:nn)*op%free(:, 1:nn)
@@ -407,6 +490,71 @@ contains
     op%total_iter = op%total_iter + op%last_iter
     if (rnorm2 > op%rtol**2*fnorm2) ierr = 1
   end subroutine mass_solve
+
+  !> One corrector pass on the n owned rows: y = x + d (f - M x), x with current ghosts and
+  !! d = 1/row sum on free dofs (0 on fixed ones, where x and y stay 0).
+  subroutine corrector_pass(n, row_ptr, col, val, x, f, d, y)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(*), x(2, *), f(2, *), d(2, *)
+    real(dp), intent(inout) :: y(2, *)
+    integer :: i
+    do i = 1, n
+      call corrector_row(i, row_ptr, col, val, x, f, d, y)
+    end do
+  end subroutine corrector_pass
+
+  !> Two corrector passes in one sweep over the rows of M (all columns are rows: no ghosts):
+  !! y = x + d (f - M x) at row i, then z = y + d (f - M y) at row i - w, w the half
+  !! bandwidth of M, whose rows i - 2w .. i of y are complete then; the rows of M between
+  !! the two stages stay in the cache, so M comes from memory once for two passes.
+  subroutine corrector_pair(n, w, row_ptr, col, val, x, f, d, y, z)
+    integer, intent(in) :: n, w
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(*), x(2, *), f(2, *), d(2, *)
+    real(dp), intent(inout) :: y(2, *), z(2, *)
+    integer :: i, j
+    do i = 1, n + w
+      if (i <= n) call corrector_row(i, row_ptr, col, val, x, f, d, y)
+      j = i - w
+      if (j >= 1) call corrector_row(j, row_ptr, col, val, y, f, d, z)
+    end do
+  end subroutine corrector_pair
+
+  !> Row i of a corrector pass: y_i = x_i + d_i (f_i - (M x)_i).
+  pure subroutine corrector_row(i, row_ptr, col, val, x, f, d, y)
+    integer, intent(in) :: i
+    integer, intent(in) :: row_ptr(*), col(*)
+    real(dp), intent(in) :: val(*), x(2, *), f(2, *), d(2, *)
+    real(dp), intent(inout) :: y(2, *)
+    integer :: k, j
+    real(dp) :: s1, s2
+    s1 = 0.0_dp
+    s2 = 0.0_dp
+    do k = row_ptr(i), row_ptr(i + 1) - 1
+      j = col(k)
+      s1 = s1 + val(k)*x(1, j)
+      s2 = s2 + val(k)*x(2, j)
+    end do
+    y(1, i) = x(1, i) + d(1, i)*(f(1, i) - s1)
+    y(2, i) = x(2, i) + d(2, i)*(f(2, i) - s2)
+  end subroutine corrector_row
+
+  !> The corrector's new iterate xs (or with `third`, xt) becomes p, and p takes its place
+  !! (no copy, no allocation).
+  subroutine swap_iterates(op, third)
+    type(mass_op_t), intent(inout) :: op
+    logical, intent(in), optional :: third
+    real(dp), allocatable :: t(:,:)
+    call move_alloc(op%p, t)
+    if (present(third)) then
+      call move_alloc(op%xt, op%p)
+      call move_alloc(t, op%xt)
+    else
+      call move_alloc(op%xs, op%p)
+      call move_alloc(t, op%xs)
+    end if
+  end subroutine swap_iterates
 
   !> q = M p on the n owned rows (p with current ghosts) and this rank's level sums of p.q
   !! (lanes = the two components) for terms bounded by `bound`. The rows go in chunks whose

@@ -9,7 +9,12 @@ module ictus_solver_model
   use ictus_geometry_patch, only: patch_t
   implicit none
   private
-  public :: model_t, model_free
+  public :: model_t, model_free, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+
+  !> Solvers of a consistent mass (*DYNAMIC, EXPLICIT, MASS SOLVER=): a conjugate gradient to
+  !! a tolerance, the Cholesky factor (exact), or a fixed number of row-sum-preconditioned
+  !! corrector passes (an approximate inverse; doc/theory.md §5).
+  integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2, MASS_SOLVER_CORRECTOR = 3
 
   type :: model_t
     character(len=:), allocatable :: title
@@ -71,9 +76,11 @@ module ictus_solver_model
     real(dp) :: dt = 0.0_dp
     real(dp) :: t_end = 0.0_dp
     real(dp) :: safety = 0.9_dp
-    !> Consistent mass: conjugate gradient (else Cholesky) and its relative residual.
-    logical :: mass_cg = .false.
+    !> Consistent mass: its solver (MASS_SOLVER_*), the relative residual of the conjugate
+    !! gradient and the number of passes of the corrector.
+    integer :: mass_solver = MASS_SOLVER_CHOLESKY
     real(dp) :: mass_tol = 1.0e-12_dp
+    integer :: mass_passes = 2
     integer :: history_every = 1
     integer :: field_every = 0
     !> Checkpoint every n steps (0: only when stopped at a wall-time limit).

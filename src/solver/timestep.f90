@@ -5,7 +5,7 @@ module ictus_solver_timestep
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
-  use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
+  use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, MASS_SOLVER_CORRECTOR
   use ictus_solver_domain, only: domain_t
   implicit none
   private
@@ -26,6 +26,11 @@ contains
   !! are reproducible, so the result is the same bits on any number of ranks. Stops when the
   !! largest Ritz value changes by less than `rtol` (relative) over 5 steps, or after
   !! `max_iter` steps; `iters` is the number of operator applications.
+  !!
+  !! The corrector (MASS_SOLVER_CORRECTOR) applies an approximate inverse Mk^-1, not M^-1, and
+  !! only Mk^-1 is at hand, so the M inner product is not the right one: there Lanczos runs
+  !! on the forces, on K Mk^-1 (same eigenvalues as Mk^-1 K) in the Mk^-1 inner product, in
+  !! which K Mk^-1 is symmetric (`lanczos_inverse`).
   subroutine omega_max_power(k, mop, dom, omega, iters, rtol, max_iter)
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(inout) :: mop
@@ -36,18 +41,17 @@ contains
     integer, intent(in) :: max_iter
     real(dp), allocatable :: q(:,:), q_old(:,:), w(:,:), kq(:,:), mw(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
-    integer :: n, i, j, ierr, g
+    integer :: n, j, ierr
+    if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) then
+      call lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
+      return
+    end if
     n = mop%nn
     ! q and w carry ghost values: the consistent-mass product reads them
     allocate(q(2, mop%nlocal), q_old(2, n), w(2, mop%nlocal), kq(2, n), mw(2, n))
     q = 0.0_dp
     allocate(alpha(max_iter), beta(max_iter))
-    do i = 1, n
-      g = dom%halo%gid(i)
-      q(1, i) = hash_uniform(2*g - 1)
-      q(2, i) = hash_uniform(2*g)
-    end do
-    q(:, 1:n) = q(:, 1:n)*mop%free(:, 1:n)
+    call start_vector(mop, dom, q)
     call halo_exchange(dom%halo, q)
     call mass_apply(mop, q, mw)
     nrm = sqrt(repro_dot(n, q, mw, mop%nglobal))
@@ -76,17 +80,93 @@ contains
       call halo_exchange(dom%halo, w)
       call mass_apply(mop, w, mw)
       beta(j) = sqrt(max(repro_dot(n, w, mw, mop%nglobal), 0.0_dp))
-      if (mod(j, 5) == 0 .or. j == max_iter .or. beta(j) <= 1.0e-14_dp*abs(alpha(j))) then
-        lam = largest_ritz_value(j, alpha, beta)
-        if (beta(j) <= 1.0e-14_dp*abs(alpha(j))) exit
-        if (j >= 10 .and. abs(lam - lam_old) <= rtol*abs(lam)) exit
-        lam_old = lam
-      end if
+      if (converged(j, alpha, beta, rtol, max_iter, lam, lam_old)) exit
       q_old = q(:, 1:n)
       q(:, 1:n) = w(:, 1:n)/beta(j)
     end do
     omega = sqrt(max(lam, 0.0_dp))
   end subroutine omega_max_power
+
+  !> omega_max by Lanczos on A = K Mk^-1 in the Mk^-1 inner product (see omega_max_power):
+  !! q_j are forces with z_j = Mk^-1 q_j, alpha_j = z_j.K z_j, w = K z_j - alpha_j q_j -
+  !! beta_{j-1} q_{j-1}, y = Mk^-1 w, beta_j = sqrt(w.y); one mass solve per step. Same start
+  !! vector, stopping rule and reproducible sums as omega_max_power.
+  subroutine lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
+    type(bsr_t), intent(in) :: k
+    type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
+    real(dp), intent(out) :: omega
+    integer, intent(out) :: iters
+    real(dp), intent(in) :: rtol
+    integer, intent(in) :: max_iter
+    real(dp), allocatable :: q(:,:), q_old(:,:), z(:,:), w(:,:), kz(:,:), alpha(:), beta(:)
+    real(dp) :: nrm, lam, lam_old
+    integer :: n, j, ierr
+    n = mop%nn
+    ! z carries ghost values: K reads them
+    allocate(q(2, n), q_old(2, n), z(2, mop%nlocal), w(2, n), kz(2, n))
+    allocate(alpha(max_iter), beta(max_iter))
+    z = 0.0_dp
+    call start_vector(mop, dom, q)
+    call mass_solve(mop, dom, q, z, ierr)
+    nrm = sqrt(max(repro_dot(n, q, z, mop%nglobal), 0.0_dp))
+    lam = 0.0_dp
+    lam_old = 0.0_dp
+    iters = 0
+    if (nrm == 0.0_dp) then
+      omega = 0.0_dp
+      return
+    end if
+    q = q/nrm
+    z(:, 1:n) = z(:, 1:n)/nrm
+    q_old = 0.0_dp
+    do j = 1, max_iter
+      iters = j
+      call halo_exchange(dom%halo, z)
+      call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, z, kz)
+      kz = kz*mop%free(:, 1:n)
+      alpha(j) = repro_dot(n, z, kz, mop%nglobal)
+      w = kz - alpha(j)*q
+      if (j > 1) w = w - beta(j - 1)*q_old
+      q_old = q
+      call mass_solve(mop, dom, w, z, ierr)
+      beta(j) = sqrt(max(repro_dot(n, w, z, mop%nglobal), 0.0_dp))
+      if (converged(j, alpha, beta, rtol, max_iter, lam, lam_old)) exit
+      q = w/beta(j)
+      z(:, 1:n) = z(:, 1:n)/beta(j)
+    end do
+    omega = sqrt(max(lam, 0.0_dp))
+  end subroutine lanczos_inverse
+
+  !> The start vector: a fixed pseudo-random field of the global dof numbers on the free
+  !! owned dofs (0 elsewhere among the first nn columns).
+  subroutine start_vector(mop, dom, q)
+    type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(in) :: dom
+    real(dp), intent(inout) :: q(:,:)
+    integer :: i, g
+    do i = 1, mop%nn
+      g = dom%halo%gid(i)
+      q(1, i) = hash_uniform(2*g - 1)*mop%free(1, i)
+      q(2, i) = hash_uniform(2*g)*mop%free(2, i)
+    end do
+  end subroutine start_vector
+
+  !> The stopping rule after Lanczos step j: every 5 steps (and at the last one, or at a
+  !! breakdown beta_j ~ 0) the largest Ritz value lam is updated; true at a breakdown or when
+  !! lam changed by less than rtol (relative) since the previous update (from step 10 on).
+  logical function converged(j, alpha, beta, rtol, max_iter, lam, lam_old) result(done)
+    integer, intent(in) :: j, max_iter
+    real(dp), intent(in) :: alpha(:), beta(:), rtol
+    real(dp), intent(inout) :: lam, lam_old
+    logical :: breakdown
+    done = .false.
+    breakdown = beta(j) <= 1.0e-14_dp*abs(alpha(j))
+    if (.not. (mod(j, 5) == 0 .or. j == max_iter .or. breakdown)) return
+    lam = largest_ritz_value(j, alpha, beta)
+    done = breakdown .or. (j >= 10 .and. abs(lam - lam_old) <= rtol*abs(lam))
+    if (.not. done) lam_old = lam
+  end function converged
 
   !> Largest eigenvalue of the Lanczos tridiagonal matrix T_j (diagonal alpha, off-diagonal
   !! beta), by LAPACK dstev.

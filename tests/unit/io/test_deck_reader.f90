@@ -29,6 +29,8 @@ program test_deck_reader
   call case_patch_deck(t, dir//'/patch_halfdisc.inp')
   call case_round_trip(t, dir//'/model_fe.inp', 'roundtrip_model_fe.inp')
   call case_round_trip(t, dir//'/patch_halfdisc.inp', 'roundtrip_patch.inp')
+  call case_corrector(t, dir//'/step_corrector.inp')
+  call case_round_trip(t, dir//'/step_corrector.inp', 'roundtrip_corrector.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
   call case_missing_file(t)
   call t%finish()
@@ -215,7 +217,7 @@ contains
     call t%true(d%has_step, 'fe: step')
     call t%true(d%step%dt == 1.0e-6_dp .and. d%step%t_end == 2.0e-3_dp .and. &
         d%step%safety == 0.8_dp, 'fe: dynamic')
-    call t%true(d%step%mass_cg .and. d%step%mass_tol == 1.0e-9_dp, &
+    call t%true(d%step%mass_solver == 'CG' .and. d%step%mass_tol == 1.0e-9_dp, &
         'fe: MASS SOLVER=CG, MASS TOL=1e-9')
     call t%true(d%step%history_every == 5 .and. d%step%field_every == 100 .and. &
         d%step%restart_every == 1000, 'fe: output and restart')
@@ -285,10 +287,24 @@ contains
     if (d%n_dampings == 1) call t%true(d%dampings(1)%alpha == 0.0_dp, 'patch: damping alpha 0')
     call t%true(d%step%dt == 5.0e-4_dp .and. d%step%t_end == 0.9_dp .and. &
         d%step%safety == 0.9_dp, 'patch: step with default safety')
-    call t%true(.not. d%step%mass_cg, 'patch: default MASS SOLVER=CHOLESKY')
+    call t%true(d%step%mass_solver == 'CHOLESKY' .and. d%step%mass_passes == 2, &
+        'patch: default MASS SOLVER=CHOLESKY')
     call t%true(d%step%history_every == 1 .and. d%step%field_every == 0 .and. &
         d%step%restart_every == 0, 'patch: output defaults')
   end subroutine case_patch_deck
+
+  !> *DYNAMIC, EXPLICIT, MASS SOLVER=CORRECTOR, MASS PASSES=3 (choice in lower case).
+  subroutine case_corrector(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    integer :: n0
+    n0 = error_count()
+    call read_deck(path, d)
+    call t%equal_int(error_count() - n0, 0, 'corrector: no errors')
+    call t%true(d%step%mass_solver == 'CORRECTOR' .and. d%step%mass_passes == 3, &
+        'corrector: MASS SOLVER=CORRECTOR, MASS PASSES=3')
+  end subroutine case_corrector
 
   !> deck_echo(full) written to a file and read again gives the same deck.
   subroutine case_round_trip(t, path, copy)
@@ -446,7 +462,8 @@ contains
         a%step%history_every == b%step%history_every .and. &
         a%step%field_every == b%step%field_every .and. &
         a%step%restart_every == b%step%restart_every .and. &
-        (a%step%mass_cg .eqv. b%step%mass_cg) .and. a%step%mass_tol == b%step%mass_tol
+        a%step%mass_solver == b%step%mass_solver .and. a%step%mass_tol == b%step%mass_tol &
+        .and. a%step%mass_passes == b%step%mass_passes
     call t%true(same, label//': step')
   end subroutine compare_conditions
 
