@@ -71,7 +71,8 @@ module ictus_solver_mass_operator
     integer :: last_iter = 0
     integer :: total_iter = 0
     integer :: n_solves = 0
-    !> Work vectors: residual r (2, nn), direction p (2, nlocal: ghosts by halo), M p in q (2, nn).
+    !> Work vectors: residual r (2, nn) and M p in q (2, nn), CG only; direction p (2, nlocal:
+    !! ghosts by halo), also the corrector's iterate.
     real(dp), allocatable :: r(:,:), p(:,:), q(:,:)
     !> Consistent-mass solver (MASS_SOLVER_*).
     integer :: solver = MASS_SOLVER_CG
@@ -141,8 +142,11 @@ contains
       else
         call csr_diagonal(m, d)
       end if
-      call alloc_stream(op%r, 2, nn, 0.0_dp)
-      call alloc_stream(op%q, 2, nn, 0.0_dp)
+      ! residual and product of the conjugate gradient; p is also the corrector's iterate
+      if (op%solver == MASS_SOLVER_CG) then
+        call alloc_stream(op%r, 2, nn, 0.0_dp)
+        call alloc_stream(op%q, 2, nn, 0.0_dp)
+      end if
       call alloc_stream(op%p, 2, dom%nlocal, 0.0_dp)
     else
       d = m_diag(1:nn)
