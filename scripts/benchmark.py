@@ -188,7 +188,9 @@ def row(case, ranks, d):
     return [f"{case}{'' if ranks == 1 else ' np=2'}", f"{int(d['nel']):d}",
             f"{int(2 * d['nodes']):d}",
             f"{int(d['steps']):d}",
-            f"{ns_el(d, 't_step'):.1f}", f"{ns_el(d, 't_kmv'):.1f}",
+            f"{ns_el(d, 't_step'):.1f}",
+            f"{ns_el(d, 't_single'):.1f}" if d.get("sweep", 1) > 1 else "-",
+            f"{ns_el(d, 't_kmv'):.1f}",
             f"{ns_el(d, 't_contact'):.2f}" if cp else "-",
             f"{ns_el(d, 't_mass'):.1f}", f"{ns_el(d, 't_update'):.1f}",
             f"{gbs:.1f}", f"{stream:.1f}", f"{gbs / stream:.2f}",
@@ -198,7 +200,7 @@ def row(case, ranks, d):
             f"{1e9 * d['t_contact'] / cp:.0f}" if cp else "-"]
 
 
-HEAD = ["case", "elements", "dofs", "steps", "step", "K u", "contact", "mass", "update",
+HEAD = ["case", "elements", "dofs", "steps", "step", "1-step", "K u", "contact", "mass", "update",
         "K u GB/s", "STREAM GB/s", "K u/STREAM", "step/K u", "mass/K u",
         "it/solve", "contact ns/point"]
 
@@ -221,7 +223,7 @@ def verdicts(res, np2):
     out = []
 
     def add(target, measured, ok):
-        out.append((target, measured, "met" if ok else "MISSED"))
+        out.append((target, measured, "reported" if ok is None else "met" if ok else "MISSED"))
 
     for disc in ("q8", "iga"):
         runs = res.get(disc, {})
@@ -236,6 +238,11 @@ def verdicts(res, np2):
         r = worst["t_step"] / worst["t_kmv"]
         add(f"{disc}: lumped step <= 1.3 x K u (worst size, {int(worst['nel'])} el.)",
             f"{r:.2f} x", r <= 1.3)
+        if all(d.get("sweep", 1) > 1 for d in runs.values()):
+            worst = max(runs.values(), key=lambda d: d["t_single"] / d["t_kmv"])
+            r = worst["t_single"] / worst["t_kmv"]
+            add(f"{disc}: the same one step per pass (SWEEP STEPS=1; worst size, "
+                f"{int(worst['nel'])} el.)", f"{r:.2f} x", None)
         cons = res.get(disc + "-consistent", {})
         common = sorted(set(cons) & set(runs))
         if common:

@@ -29,7 +29,8 @@ program ictus_bench
   use ictus_solver_assemble, only: operators_t, assemble_operators
   use ictus_solver_sparse, only: bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
-  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
+      state_plan_sweep, step_sweep
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
   use ictus_contact_contact, only: contact_t
@@ -49,7 +50,9 @@ program ictus_bench
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0
-  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, dt, stream_bw, bytes_kmv, mass_iter
+  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, dt, stream_bw, bytes_kmv, &
+      mass_iter
+  logical, allocatable :: sync(:)
   real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:)
   real(dp) :: omega
   integer :: iters
@@ -117,7 +120,17 @@ program ictus_bench
   end do
   s%v(:, 1:n) = s%v(:, 1:n)*mop%free(:, 1:n)
   allocate(u_save(2, dom%nlocal), v_save(2, dom%nlocal), a_save(2, dom%nlocal))
-  allocate(times(5, nrep))
+  ! sweeps of several steps over K, planned as a run plans them (contact nodes step singly)
+  allocate(sync(n), source=.false.)
+  if (contact%npairs > 0) then
+    do i = 1, cs%ncn
+      if (cs%lnode(i) > 0) sync(cs%lnode(i)) = .true.
+    end do
+  end if
+  call state_plan_sweep(s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, model%sweep_steps)
+  ! whole sweeps only: the step count is rounded up to a multiple of the sweep
+  if (s%sweeps) nsteps = s%sweep%nstage*((nsteps + s%sweep%nstage - 1)/s%sweep%nstage)
+  allocate(times(6, nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
@@ -130,6 +143,7 @@ program ictus_bench
   t_mass = median(times(3, :))
   t_contact = median(times(4, :))
   t_update = median(times(5, :))
+  t_single = median(times(6, :))
   ! bytes the stiffness product must move once: blocks (4 reals + a column index), row
   ! pointers, u read, f written
   nnzb = size(ops%k%g%col, kind=i8)
@@ -145,20 +159,22 @@ program ictus_bench
   end if
   stream_bw = stream_triad(stream_mb)
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,3(a,es11.5))') &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),a,i0)') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
-      ' mass_iter=', mass_iter, ' dt=', dt
+      ' mass_iter=', mass_iter, ' dt=', dt, ' t_single=', t_single, ' sweep=', &
+      merge(s%sweep%nstage, 1, s%sweeps)
   call env_finalize()
 
 contains
 
   !> One set of timings, seconds per step (the slowest rank's): stiffness product, whole
-  !! step, mass solve, contact correction, separate vector updates.
+  !! step on the run's path (sweeps where planned), mass solve, contact correction, separate
+  !! vector updates, whole step one step at a time.
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(5)
+    real(dp), intent(out) :: t(6)
     real(dp) :: t0
     integer :: k
     ! 1. the stiffness product alone
@@ -171,12 +187,19 @@ contains
     ! 2. the whole step on the run's path (no output)
     call barrier()
     t0 = wall_time()
-    do k = 1, nsteps
-      call step_predict(s, ops%k, mop, dom, .false.)
-      if (contact%npairs > 0) call contact_correct(cs, contact, s, mop, dom, model%x0)
-      call step_finish(s, dom)
-    end do
+    if (s%sweeps) then
+      do k = 1, nsteps/s%sweep%nstage
+        call step_sweep(s, ops%k, mop, dom, between)
+      end do
+    else
+      call single_steps()
+    end if
     t(2) = wall_time() - t0
+    ! 2b. the same one step at a time
+    call barrier()
+    t0 = wall_time()
+    call single_steps()
+    t(6) = wall_time() - t0
     ! 3. phases: mass solve, contact, vector updates (the unfused passes); they run on a
     ! saved state, restored afterwards, so the runs of the whole step stay a real motion
     u_save = s%u
@@ -213,11 +236,26 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 5
+    do k = 1, 6
       call allreduce_max(t(k))
     end do
     t = t/nsteps
   end subroutine time_phases
+
+  !> nsteps steps one at a time (step_predict, contact, step_finish), no output.
+  subroutine single_steps()
+    integer :: k
+    do k = 1, nsteps
+      call step_predict(s, ops%k, mop, dom, .false.)
+      call between()
+      call step_finish(s, dom)
+    end do
+  end subroutine single_steps
+
+  !> The contact correction between predictor and update.
+  subroutine between()
+    if (contact%npairs > 0) call contact_correct(cs, contact, s, mop, dom, model%x0)
+  end subroutine between
 
   !> Median of a few values.
   pure real(dp) function median(x)

@@ -69,6 +69,7 @@ contains
         model%mass_solver = MASS_SOLVER_CHOLESKY
       end select
       model%mass_passes = deck%step%mass_passes
+      model%sweep_steps = deck%step%sweep_steps
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
       model%restart_every = deck%step%restart_every

@@ -22,7 +22,8 @@ module ictus_app_driver
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
   use ictus_solver_timestep, only: omega_max_power
-  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
+      state_plan_sweep, step_sweep
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
       contact_ratio, contact_bipenalty_init
   use ictus_contact_contact, only: contact_t, contact_failures
@@ -304,8 +305,9 @@ contains
     logical :: record, field, ok, stop_now
     type(checkpoint_t) :: ck
     character(len=:), allocatable :: ckpt, deck_text, msg
-    integer :: n_start
+    integer :: n_start, n_first, n_last
     integer :: k
+    logical, allocatable :: sync(:)
     real(dp) :: r
     character(len=256) :: where
     integer(8) :: failures
@@ -355,52 +357,59 @@ contains
           'solve did not converge at the start')
     end if
     call log_info('results: '//out)
+    ! sweeps of several steps over K where no output falls between (lumped mass, no damping)
+    allocate(sync(dom%nowned), source=.false.)
+    if (contact%npairs > 0) then
+      do k = 1, cs%ncn
+        if (cs%lnode(k) > 0) sync(cs%lnode(k)) = .true.
+      end do
+    end if
+    call state_plan_sweep(s, ops%k, mop, dom, model%x0(:, gid), sync, model%sweep_steps)
+    if (s%sweeps) call log_info('sweeps: '//str(s%sweep%nstage)//' steps per sweep over K '// &
+        'between outputs ('//str(s%sweep%strip)//' strips; '//str(s%sweep%zone_rows(1))// &
+        ' rows of '//str(dom%nowned)//' stepped one step at a time)')
     t0 = wall_time()
     t_last_print = t0
-    do n = n_start, nsteps
-      record = mod(n, model%history_every) == 0 .or. n == nsteps
-      field = mod(n, field_every) == 0 .or. n == nsteps
-      call step_predict(s, ops%k, mop, dom, record .or. field)
-      if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass solve '// &
-          'did not converge')
-      if (record) then
-        rec = history_record_t(s%t, dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
-        call results_contact(res, contact)
-        call results_history(res, rec)
-        e_total = s%e_kin + s%e_strain + s%e_contact - s%w_ext
-        if (n == 0) e0 = e_total
-        call check_blowup(res, s, model, dom, e0)
+    n = n_start
+    do while (n <= nsteps)
+      n_first = n
+      if (sweep_fits(n)) then
+        ! steps n .. n_last in one sweep; the contact correction of each comes between
+        n_last = n + s%sweep%nstage - 1
+        call step_sweep(s, ops%k, mop, dom, contact_between)
+      else
+        n_last = n
+        record = mod(n, model%history_every) == 0 .or. n == nsteps
+        field = mod(n, field_every) == 0 .or. n == nsteps
+        call step_predict(s, ops%k, mop, dom, record .or. field)
+        if (s%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass solve '// &
+            'did not converge')
+        if (record) then
+          rec = history_record_t(s%t, dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
+          call results_contact(res, contact)
+          call results_history(res, rec)
+          e_total = s%e_kin + s%e_strain + s%e_contact - s%w_ext
+          if (n == 0) e0 = e_total
+          call check_blowup(res, s, model, dom, e0)
+        end if
+        if (field) then
+          ! the viewing samples of NURBS elements read ghost velocities too
+          if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
+          call results_field(res, dom, n, s%t, s%u, s%v_mid, gid, contact)
+        end if
+        if (n == nsteps) exit
+        if (contact%npairs > 0) call contact_between()
+        call step_finish(s, dom)
       end if
-      if (field) then
-        ! the viewing samples of NURBS elements read ghost velocities too
-        if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
-        call results_field(res, dom, n, s%t, s%u, s%v_mid, gid, contact)
-      end if
-      if (n == nsteps) exit
-      if (contact%npairs > 0) then
-        call contact_correct(cs, contact, s, mop, dom, model%x0)
-        if (cs%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass '// &
-            'solve of the contact correction did not converge')
-        failures = failures + contact_failures(contact)
-        do k = 1, contact%npairs
-          if (contact%pairs(k)%active_points > 0 .and. .not. was_active(k)) then
-            was_active(k) = .true.
-            call contact_ratio(cs, contact, model%x0, s%u, ops%m_pos, dt, r, where)
-            call log_info('contact '//trim(contact%pairs(k)%name)//' becomes active at t = '// &
-                str(s%t + dt)//'; stability ratio r = '//str(r, 4)//' ('//trim(where)//')')
-            if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
-                ' exceeds 1/2 at '//trim(where))
-          end if
-        end do
-      end if
-      call step_finish(s, dom)
       elapsed = wall_time() - t0
-      ! checkpoints: every restart_every steps, and when the wall-time limit is reached
+      ! checkpoints: every restart_every steps, and when the wall-time limit is reached (checked
+      ! when the step count passes a multiple of 10)
       stop_now = .false.
-      if (opt%wall_time > 0.0_dp .and. mod(n + 1, 10) == 0) then
+      if (opt%wall_time > 0.0_dp .and. (n_last + 1)/10 > n/10) then
         stop_now = elapsed > opt%wall_time
         call allreduce_or(stop_now)
       end if
+      n = n_last
       if (stop_now .or. (model%restart_every > 0 .and. mod(n + 1, max(1, &
           model%restart_every)) == 0 .and. n + 1 < nsteps)) then
         call results_flush(res)
@@ -422,7 +431,8 @@ contains
         call log_info('continue with: ictus '//opt%deck_path//' -o '//out//' --restart '//ckpt)
         call terminate(EXIT_WALL_TIME)
       end if
-      if (mod(n + 1, print_every) == 0 .or. wall_time() - t_last_print > 10.0_dp) then
+      if ((n + 1)/print_every > n_first/print_every .or. &
+          wall_time() - t_last_print > 10.0_dp) then
         t_last_print = wall_time()
         call log_info('step '//str(n + 1)//'/'//str(nsteps)//'  t = '//str(s%t, 5)// &
             '  dt = '//str(dt, 4)//'  E_total = '//str(s%e_kin + s%e_strain + s%e_contact &
@@ -437,6 +447,7 @@ contains
           end associate
         end do
       end if
+      n = n + 1
     end do
     call report_energy(s, e0)
     if (failures > 0) call warning('contact', str(int(failures))//' closest-point '// &
@@ -453,6 +464,47 @@ contains
     call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
         ' steps')
     call results_close(res, 'completed')
+
+  contains
+
+    !> Whether steps n .. n + nstage - 1 can run as one sweep: sweeps are planned, no output
+    !! is due at any of them, the last of them is before the final step, and no checkpoint
+    !! falls strictly inside.
+    logical function sweep_fits(n)
+      integer, intent(in) :: n
+      integer :: j
+      sweep_fits = .false.
+      if (.not. s%sweeps) return
+      if (n + s%sweep%nstage > nsteps) return
+      do j = n, n + s%sweep%nstage - 1
+        if (mod(j, model%history_every) == 0 .or. mod(j, field_every) == 0) return
+        if (j > n .and. model%restart_every > 0) then
+          if (mod(j, model%restart_every) == 0) return
+        end if
+      end do
+      sweep_fits = .true.
+    end function sweep_fits
+
+    !> The contact correction of the current step, its failure count and the log line of a
+    !! pair that becomes active (between the predictor and the displacement update).
+    subroutine contact_between()
+      integer :: kp
+      if (contact%npairs == 0) return
+      call contact_correct(cs, contact, s, mop, dom, model%x0)
+      if (cs%ierr /= 0) call runtime_failure(res, s, model, dom, 'the consistent-mass '// &
+          'solve of the contact correction did not converge')
+      failures = failures + contact_failures(contact)
+      do kp = 1, contact%npairs
+        if (contact%pairs(kp)%active_points > 0 .and. .not. was_active(kp)) then
+          was_active(kp) = .true.
+          call contact_ratio(cs, contact, model%x0, s%u, ops%m_pos, dt, r, where)
+          call log_info('contact '//trim(contact%pairs(kp)%name)//' becomes active at t = '// &
+              str(s%t + dt)//'; stability ratio r = '//str(r, 4)//' ('//trim(where)//')')
+          if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
+              ' exceeds 1/2 at '//trim(where))
+        end if
+      end do
+    end subroutine contact_between
   end subroutine time_loop
 
   !> Energy balance at the end: total = kinetic + strain + contact - external work.

@@ -304,18 +304,20 @@ contains
   subroutine echo_step(d, t)
     type(deck_t), intent(in) :: d
     type(text_t), intent(inout) :: t
+    character(len=:), allocatable :: sweep
     if (.not. d%has_step) return
+    sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
     call put(t, '*STEP')
     select case (d%step%mass_solver)
     case ('CG')
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
-          ', MASS SOLVER=CG, MASS TOL='//real_text(d%step%mass_tol))
+          ', MASS SOLVER=CG, MASS TOL='//real_text(d%step%mass_tol)//sweep)
     case ('CORRECTOR')
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
-          ', MASS SOLVER=CORRECTOR, MASS PASSES='//str(d%step%mass_passes))
+          ', MASS SOLVER=CORRECTOR, MASS PASSES='//str(d%step%mass_passes)//sweep)
     case default
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
-          ', MASS SOLVER=CHOLESKY')
+          ', MASS SOLVER=CHOLESKY'//sweep)
     end select
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))

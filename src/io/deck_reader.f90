@@ -1348,9 +1348,10 @@ contains
   end subroutine read_step
 
   !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG|CORRECTOR] [, MASS TOL=tol]
-  !! [, MASS PASSES=k]: one data line "dt, t_end". MASS TOL is the tolerance of the conjugate
-  !! gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the corrector's passes, so it
-  !! needs MASS SOLVER=CORRECTOR.
+  !! [, MASS PASSES=k] [, SWEEP STEPS=s]: one data line "dt, t_end". MASS TOL is the tolerance
+  !! of the conjugate gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the corrector's
+  !! passes, so it needs MASS SOLVER=CORRECTOR. SWEEP STEPS is the number of lumped-mass steps
+  !! per sweep over the stiffness (ictus_solver_sweep).
   subroutine read_dynamic(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -1362,7 +1363,7 @@ contains
     integer :: i, k, np(1)
     logical :: tol_given, passes_given
 
-    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES', 'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -1389,6 +1390,14 @@ contains
             'passes of the consistent-mass solve)')
       else
         d%step%mass_passes = np(1)
+      end if
+    end if
+    if (get_ints(c, 'SWEEP STEPS', 1, 'an integer in [1, 8]', np)) then
+      if (np(1) < 1 .or. np(1) > 8) then
+        call card_error(c, 'SWEEP STEPS='//str(np(1))//' outside [1, 8] (lumped-mass '// &
+            'steps per sweep over the stiffness; 1 = one step per sweep)')
+      else
+        d%step%sweep_steps = np(1)
       end if
     end if
     call get_choice(c, 'MASS SOLVER', 'CHOLESKY|CG|CORRECTOR', k)

@@ -14,6 +14,8 @@
 !! the mass-weighted mean of the element coefficients around the node.
 !! Vectors hold this rank's owned nodes followed by its ghosts; updates run over owned nodes
 !! and `step_finish` refreshes the ghost displacements. The step allocates nothing.
+!! `step_sweep` runs several undamped lumped-mass steps without output in one sweep over K
+!! (ictus_solver_sweep), with the same bits as the same number of single steps.
 module ictus_solver_explicit
   use ictus_core_kinds, only: dp
   use ictus_core_memory, only: alloc_stream
@@ -22,9 +24,22 @@ module ictus_solver_explicit
   use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
   use ictus_solver_domain, only: domain_t
+  use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows
   implicit none
   private
-  public :: state_t, state_init, step_predict, step_finish, state_energies
+  public :: state_t, state_init, step_predict, step_finish, state_energies, state_plan_sweep, &
+      step_sweep, between_steps
+
+  !> Bytes of K the rows of a sweep may hold between a row's first and last stage: what stays
+  !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7).
+  integer, parameter :: SWEEP_CACHE_BYTES = 786432
+
+  abstract interface
+    !> Work between the predictor and the displacement update of a step inside a sweep (the
+    !! contact correction), on s%u = u_n, s%v = v_pre and s%u_next = u_pre.
+    subroutine between_steps()
+    end subroutine between_steps
+  end interface
 
   type :: state_t
     !> Owned nodes and local nodes (owned + ghosts).
@@ -56,6 +71,9 @@ module ictus_solver_explicit
     !! current step took that path (then step_finish swaps it in).
     real(dp), allocatable :: u_next(:,:)
     logical :: fused = .false.
+    !> The plan of `step_sweep` (sweep%nstage steps per sweep), when sweeps are possible.
+    type(sweep_t) :: sweep
+    logical :: sweeps = .false.
   end type state_t
 
 contains
@@ -162,6 +180,68 @@ contains
     s%step = s%step + 1
     s%t = s%t + s%dt
   end subroutine step_finish
+
+  !> Plans sweeps of nstage steps for an undamped lumped-mass state (otherwise, or for
+  !! nstage < 2, s%sweeps stays false). x(2, nowned): coordinates of the owned nodes (the
+  !! strips follow them); sync(nowned): nodes touched between steps (contact nodes).
+  subroutine state_plan_sweep(s, k, mop, dom, x, sync, nstage)
+    type(state_t), intent(inout) :: s
+    type(bsr_t), intent(in) :: k
+    type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(in) :: dom
+    real(dp), intent(in) :: x(:,:)
+    logical, intent(in) :: sync(:)
+    integer, intent(in) :: nstage
+    logical, allocatable :: touched(:)
+    real(dp) :: row_bytes
+    integer :: window, i
+    s%sweeps = nstage > 1 .and. .not. (mop%consistent .or. s%damped) .and. s%nn > 0
+    if (.not. s%sweeps) return
+    ! about SWEEP_CACHE_BYTES of K between a row's stage 1 and its last stage
+    row_bytes = 36.0_dp*real(size(k%g%col), dp)/real(s%nn, dp)
+    window = max(32, int(real(SWEEP_CACHE_BYTES, dp)/(real(nstage - 1, dp)*row_bytes)))
+    ! the nodes the halo exchange sends take part between steps too
+    touched = sync(1:s%nn)
+    do i = 1, size(dom%halo%send_idx)
+      touched(dom%halo%send_idx(i)) = .true.
+    end do
+    call sweep_plan(s%sweep, k%g, nstage, window, x, touched)
+  end subroutine state_plan_sweep
+
+  !> s%sweep%nstage undamped lumped-mass steps without output in one sweep over K: for each
+  !! step, the zone rows (ghost neighbours, contact nodes and the rows around them), then
+  !! `between` (the contact correction), the halo exchange and the swap of u and u_next, as
+  !! in step_predict + step_finish; then all steps on the other rows. The same bits as that
+  !! many single steps. Needs s%sweeps.
+  subroutine step_sweep(s, k, mop, dom, between)
+    type(state_t), intent(inout) :: s
+    type(bsr_t), intent(in) :: k
+    type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(inout) :: dom
+    procedure(between_steps) :: between
+    real(dp), allocatable :: swap(:,:)
+    integer :: st
+    do st = 1, s%sweep%nstage
+      call sweep_zone_stage(s%sweep, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+          s%v, s%u_next)
+      s%fused = .true.
+      call between()
+      call halo_exchange(dom%halo, s%u_next)
+      call move_alloc(s%u, swap)
+      call move_alloc(s%u_next, s%u)
+      call move_alloc(swap, s%u_next)
+      s%step = s%step + 1
+      s%t = s%t + s%dt
+    end do
+    ! the arrays of stage 0 (a) and stage 1 (b): after an even number of swaps s%u is a
+    if (mod(s%sweep%nstage, 2) == 0) then
+      call sweep_rows(s%sweep, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+          s%u_next, s%v)
+    else
+      call sweep_rows(s%sweep, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u_next, &
+          s%u, s%v)
+    end if
+  end subroutine step_sweep
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,
   !! recorded for time t_n. Needs s%f = -K u_n and s%v_mid set by the current step.

@@ -11,7 +11,7 @@ module ictus_solver_sparse
   private
   public :: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, csr_init, bsr_add_element, &
       csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col, &
-      graph_copy, csr_copy, fused_lumped_step
+      graph_copy, csr_copy, fused_lumped_step, fused_lumped_rows
 
   !> Node adjacency graph in CSR form (every node is its own neighbour). Rows exist for the
   !! first `n` (owned) nodes; columns are local node indices 1..ncol, sorted in each row by
@@ -273,23 +273,35 @@ contains
     real(dp), intent(in) :: u(2, *)
     real(dp), intent(inout) :: v(2, *)
     real(dp), intent(inout) :: u_next(2, *)
-    integer, parameter :: chunk = 1024
+    call fused_lumped_rows(1, n, row_ptr, col, val, inv_m, dt, u, v, u_next)
+  end subroutine fused_lumped_step
+
+  !> The fused lumped step on rows lo .. lo + len - 1 only (`fused_lumped_step` for all rows;
+  !! the sweeps of ictus_solver_sweep run it on runs of rows): v += dt (-K x_in)/m,
+  !! x_out = x_in + dt v, in chunks whose K x_in stays in the L1 cache.
+  subroutine fused_lumped_rows(lo, len, row_ptr, col, val, inv_m, dt, x_in, v, x_out)
+    integer, intent(in) :: lo, len
+    integer, intent(in) :: row_ptr(*), col(*)
+    real(dp), intent(in) :: val(2, 2, *), inv_m(2, *), dt
+    real(dp), intent(in) :: x_in(2, *)
+    real(dp), intent(inout) :: v(2, *), x_out(2, *)
+    integer, parameter :: chunk = 512
     real(dp) :: ku(2, chunk), v1, v2
     integer :: i0, m, l, i
-    do i0 = 1, n, chunk
-      m = min(chunk, n - i0 + 1)
-      call bsr_matvec(m, row_ptr(i0), col, val, u, ku)
+    do i0 = lo, lo + len - 1, chunk
+      m = min(chunk, lo + len - i0)
+      call bsr_matvec(m, row_ptr(i0), col, val, x_in, ku)
       do l = 1, m
         i = i0 + l - 1
         v1 = v(1, i) + dt*((-ku(1, l))*inv_m(1, i))
         v2 = v(2, i) + dt*((-ku(2, l))*inv_m(2, i))
         v(1, i) = v1
         v(2, i) = v2
-        u_next(1, i) = u(1, i) + dt*v1
-        u_next(2, i) = u(2, i) + dt*v2
+        x_out(1, i) = x_in(1, i) + dt*v1
+        x_out(2, i) = x_in(2, i) + dt*v2
       end do
     end do
-  end subroutine fused_lumped_step
+  end subroutine fused_lumped_rows
 
   !> y = (A ⊗ I2) x for the scalar matrix acting on both components, on its n rows.
   subroutine csr_matvec(n, row_ptr, col, val, x, y)

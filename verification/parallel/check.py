@@ -9,7 +9,11 @@ Cases: classic FE (Q8, HRZ and consistent mass, with damping), Q4 with a partiti
 Dirichlet boundary, NURBS (a refined biquadratic patch, consistent mass by the Cholesky factor
 and by corrector passes, whose halo exchanges cut the partition), and the dynamic Hertz
 problem with two-half-pass contact (NURBS HRZ, Q8 consistent) on partitions that cut right
-through the contact zone (checked from /model/partition).
+through the contact zone (checked from /model/partition). The cases named *_sweep record
+every 25 and 10 steps, so that the lumped-mass steps in between run as sweeps of several steps
+over K (ictus_solver_sweep: zones around the partition boundaries and the contact nodes step
+singly): they must give the same bits on any number of ranks, and the same bits as the run
+with SWEEP STEPS=1 (one step per pass over K).
 """
 import os
 import sys
@@ -23,6 +27,8 @@ sys.path.insert(0, os.path.join(vcheck.ROOT, "scripts", "mesh"))
 import hertz  # noqa: E402
 
 STEP = "*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, FIELD, EVERY=20\n*END STEP\n"
+SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, HISTORY, EVERY=25\n"
+              "*OUTPUT, FIELD, EVERY=40\n*END STEP\n")
 
 
 def fe_deck(etype, mass, extra="", step=STEP):
@@ -76,7 +82,11 @@ def main():
              "hertz_iga_hrz": hertz.deck(hertz.options(kind="iga", mass="HRZ", subdivide=8,
                                                        t_end=0.3, field_every=200), "test"),
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
-                                                             dt=2e-4, t_end=0.2), "test")}
+                                                             dt=2e-4, t_end=0.2), "test"),
+             "q4_rowsum_sweep": fe_deck("Q4", "*MASS, TYPE=ROW SUM", step=SWEEP_STEP),
+             "hertz_iga_hrz_sweep": hertz.deck(hertz.options(
+                 kind="iga", mass="HRZ", subdivide=8, t_end=0.3, field_every=200),
+                 "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n")}
     for tag, text in cases.items():
         path = os.path.join(args.work, tag + ".inp")
         with open(path, "w") as f:
@@ -84,10 +94,21 @@ def main():
         results = {}
         for n in (1, 2, 3, 4):
             out = os.path.join(args.work, f"{tag}_np{n}.h5")
-            vcheck.run_ictus(args, path, out, np=n)
+            _, log = vcheck.run_ictus(args, path, out, np=n)
             results[n] = vcheck.Results(out)
+            if tag.endswith("_sweep"):
+                chk.true("sweeps: 6 steps per sweep" in log, f"{tag}: np = {n} runs sweeps "
+                         "of 6 steps")
         for n in (2, 3, 4):
             compare(chk, tag, results[1], results[n], n)
+        if tag.endswith("_sweep"):
+            single = os.path.join(args.work, tag + "_single.inp")
+            with open(single, "w") as f:
+                f.write(text.replace("*DYNAMIC, EXPLICIT", "*DYNAMIC, EXPLICIT, SWEEP STEPS=1"))
+            out = os.path.join(args.work, f"{tag}_single.h5")
+            _, log = vcheck.run_ictus(args, single, out, np=1)
+            chk.true("sweeps:" not in log, f"{tag}: SWEEP STEPS=1 runs one step per pass")
+            compare(chk, tag + " vs SWEEP STEPS=1", vcheck.Results(out), results[1], 1)
         if tag.startswith("hertz"):
             x = results[4].model("coordinates")
             owner = results[4].model("partition")
