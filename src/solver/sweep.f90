@@ -6,13 +6,13 @@
 !! `nstage` steps runs step 1 ("stage 1") over the rows in slots of consecutive rows, and each
 !! later stage k on a row as soon as stage k-1 has finished the row's whole stencil (its
 !! columns) — by then the K rows it needs were read a few slots earlier and are still in the L2
-!! cache. The slots go strip by strip: the rows are cut into levels of `w` rows (w the half
-!! bandwidth, so a row's neighbours lie in its own and the adjacent levels) and each level into
-!! pieces of `strip` rows; all levels of the first strip come first, then the second, and so
-!! on. On a mesh numbered line by line that is a strip of the mesh `strip` nodes wide, and a
-!! row's neighbours in the next level are reached one slot later, whatever the mesh size. Rows
-!! at the edge of a strip wait for the next strip (their K rows are read from memory again);
-!! they are a few per cent of the rows.
+!! cache. The slots go strip by strip: the rows are cut into strips across the coordinate
+!! along which the numbering runs (the one that changes most between consecutive rows), each
+!! an equal share of the rows with about `window` rows per line of the mesh; inside a strip the
+!! rows go in increasing number, in slots of window/4 rows. A row's neighbours on the next
+!! line of its strip are then reached a few slots later, whatever the mesh size. Rows at the
+!! edge of a strip wait for the next strip (their K rows are read from memory again); they are
+!! a few per cent of the rows (doc/performance.md §3.7).
 !!
 !! Stage k reads the displacements of stage k-1 and writes those of stage k into the other of
 !! two arrays (odd stages a -> b, even stages b -> a), in place of the values of stage k-2,
@@ -48,15 +48,16 @@ module ictus_solver_sweep
     integer, allocatable :: run_lo(:), run_len(:)
     integer, allocatable :: run_ptr(:,:)
     integer, allocatable :: zone_lo(:), zone_len(:), zone_ptr(:)
-    !> Rows done per stage in the zones and in the sweep (for the log and the tests).
-    integer, allocatable :: zone_rows(:), late_rows(:)
+    !> Rows done per stage in the zones (for the log and the tests).
+    integer, allocatable :: zone_rows(:)
   end type sweep_t
 
 contains
 
   !> Plans sweeps of `nstage` steps over the n owned rows of graph g (columns > n are ghosts).
   !! sync(n) marks the rows that take part in the correction between steps; rows with a ghost
-  !! column are added here. `strip` is the strip width in rows.
+  !! column are added here. `window`: rows per line of the mesh in a strip; x(2, n): the
+  !! coordinates of the owned nodes (the strips follow them).
   subroutine sweep_plan(sw, g, nstage, window, x, sync)
     type(sweep_t), intent(out) :: sw
     type(graph_t), intent(in) :: g
@@ -160,7 +161,7 @@ contains
       end do
     end do
     allocate(lo(n), len(n))
-    allocate(sw%zone_ptr(sw%nstage + 1), sw%zone_rows(sw%nstage), sw%late_rows(sw%nstage))
+    allocate(sw%zone_ptr(sw%nstage + 1), sw%zone_rows(sw%nstage))
     allocate(sw%zone_lo(0), sw%zone_len(0), sw%run_lo(0), sw%run_len(0))
     do k = 1, sw%nstage
       sw%zone_ptr(k) = size(sw%zone_lo) + 1
@@ -204,13 +205,10 @@ contains
         order(cnt(tk(i))) = i
       end do
       nr = 0
-      sw%late_rows(k) = 0
       do t = 1, sw%nslot
         sw%run_ptr(t, k) = size(sw%run_lo) + nr + 1
         do q = cnt(t - 1) + 1, cnt(t)
           call add_row(order(q), lo, len, nr, q > cnt(t - 1) + 1)
-          ! a row whose stage k comes more than 2 slots per stage after its stage 1
-          if (t - slot(order(q)) > 2*(k - 1)) sw%late_rows(k) = sw%late_rows(k) + 1
         end do
       end do
       sw%run_ptr(sw%nslot + 1, k) = size(sw%run_lo) + nr + 1
