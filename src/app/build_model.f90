@@ -13,7 +13,8 @@ module ictus_app_build_model
       patch_side_points
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA, etype_name
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
-  use ictus_solver_model, only: model_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+  use ictus_solver_model, only: model_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
+      MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
@@ -65,8 +66,12 @@ contains
         model%mass_solver = MASS_SOLVER_CG
       case ('CORRECTOR')
         model%mass_solver = MASS_SOLVER_CORRECTOR
-      case default
+      case ('KRONECKER')
+        model%mass_solver = MASS_SOLVER_KRONECKER
+      case ('CHOLESKY')
         model%mass_solver = MASS_SOLVER_CHOLESKY
+      case default
+        model%mass_solver = MASS_SOLVER_AUTO
       end select
       model%mass_passes = deck%step%mass_passes
       model%sweep_steps = deck%step%sweep_steps
@@ -213,6 +218,8 @@ contains
     model%nen_max = nen_max
     allocate(model%etype(nel), model%nen(nel), model%conn(nen_max, nel), model%mat(nel), &
         model%gauss(2, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel))
+    ! a second model in the same process (tests, tools) replaces the first one's origins
+    if (allocated(origin%where)) deallocate(origin%where)
     allocate(origin%where(nel))
     model%conn = 0
     e = 0

@@ -17,10 +17,11 @@ module ictus_app_driver
   use ictus_elements_types, only: etype_name, ETYPE_Q8
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
+  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
   use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, MASS_SOLVER_CG, &
-      MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+      MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
       state_plan_sweep, step_sweep
@@ -65,6 +66,7 @@ contains
     type(domain_t) :: dom
     type(operators_t) :: ops
     type(mass_op_t) :: mop
+    type(tensor_layout_t) :: layout
     type(contact_t) :: contact
     type(contact_step_t) :: cs
     real(dp) :: omega, dt_crit, dt, r1, dt_pen
@@ -90,9 +92,19 @@ contains
           'MASS SOLVER=CHOLESKY or CG, or TYPE=CONSISTENT only on patches and Q4 elements')
       if (error_count() > 0) call input_failure()
     end if
+    if (ops%consistent) call tensor_layout(model, layout)
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
-        model%fixed(:, dom%halo%gid), model%mass_tol, model%mass_solver, &
-        passes=model%mass_passes)
+        model%fixed(:, dom%halo%gid), model%mass_tol, model%mass_solver, ierr, &
+        model%mass_passes, layout)
+    if (ierr /= 0 .and. model%mass_solver == MASS_SOLVER_KRONECKER) then
+      call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: '//mop%setup_msg// &
+          '; it needs NURBS patches with separable geometry and weights '// &
+          'or rectangular grids of Q4, Q8 or Q9 elements with sides parallel to the axes; '// &
+          'use MASS SOLVER=AUTO (the default) or CHOLESKY')
+      call input_failure()
+    else if (ierr /= 0) then
+      call fatal('consistent mass', mop%setup_msg, 1)
+    end if
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
@@ -140,7 +152,7 @@ contains
           ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; physics.md §4.4 '// &
           'puts the limit of the predictor-corrector penalty at r = 1)')
     end if
-    call log_summary(model, dom, ops, dt)
+    call log_summary(model, dom, ops, mop, dt)
     if (opt%check_only) then
       call log_info('check: the deck is valid; no results written')
       return
@@ -217,10 +229,11 @@ contains
     end do
   end function first_element_of
 
-  subroutine log_summary(model, dom, ops, dt)
+  subroutine log_summary(model, dom, ops, mop, dt)
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     type(operators_t), intent(in) :: ops
+    type(mass_op_t), intent(in) :: mop
     real(dp), intent(in) :: dt
     integer :: nsteps
     nsteps = steps_for(model%t_end, dt)
@@ -230,7 +243,10 @@ contains
     if (dom%nparts > 1) call log_info('partition: '//str(dom%nparts)//' METIS parts; rank 0 '// &
         'owns '//str(dom%nowned)//' nodes and reads '//str(dom%nlocal - dom%nowned)//' ghosts')
     if (ops%consistent) then
-      select case (model%mass_solver)
+      select case (mop%solver)
+      case (MASS_SOLVER_KRONECKER)
+        call log_info('mass matrix: consistent (solved every step by 1D factors along the '// &
+            'lattice directions, MASS SOLVER=KRONECKER)')
       case (MASS_SOLVER_CG)
         call log_info('mass matrix: consistent (conjugate-gradient solve every step, '// &
             'MASS SOLVER=CG)')
@@ -458,6 +474,8 @@ contains
         ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
         'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
+    if (mop%consistent .and. mop%solver == MASS_SOLVER_KRONECKER) call log_info( &
+        'consistent mass: '//str(mop%n_solves)//' solves along the lattice directions')
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) call log_info( &
         'consistent mass: '//str(mop%n_solves)//' approximate solves of '// &
         str(mop%passes)//' corrector passes')

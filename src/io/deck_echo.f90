@@ -317,7 +317,7 @@ contains
           ', MASS SOLVER=CORRECTOR, MASS PASSES='//str(d%step%mass_passes)//sweep)
     case default
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &
-          ', MASS SOLVER=CHOLESKY'//sweep)
+          ', MASS SOLVER='//trim(d%step%mass_solver)//sweep)
     end select
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))

@@ -1357,8 +1357,8 @@ contains
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
     character(len=*), parameter :: expect = '*DYNAMIC: expected 2 numbers (dt, t_end)'
-    character(len=*), parameter :: solvers(3) = [character(len=9) :: 'CHOLESKY', 'CG', &
-        'CORRECTOR']
+    character(len=*), parameter :: solvers(5) = [character(len=9) :: 'AUTO', 'KRONECKER', &
+        'CHOLESKY', 'CG', 'CORRECTOR']
     real(dp) :: v(2), s(1)
     integer :: i, k, np(1)
     logical :: tol_given, passes_given
@@ -1400,14 +1400,14 @@ contains
         d%step%sweep_steps = np(1)
       end if
     end if
-    call get_choice(c, 'MASS SOLVER', 'CHOLESKY|CG|CORRECTOR', k)
+    call get_choice(c, 'MASS SOLVER', 'AUTO|KRONECKER|CHOLESKY|CG|CORRECTOR', k)
     if (k > 0) d%step%mass_solver = solvers(k)
     if (tol_given .and. d%step%mass_solver /= 'CG') call card_error(c, &
         'MASS TOL is the tolerance of the conjugate gradient: add MASS SOLVER=CG (the '// &
-        'default MASS SOLVER=CHOLESKY solves exactly)')
+        'default MASS SOLVER=AUTO solves exactly)')
     if (passes_given .and. d%step%mass_solver /= 'CORRECTOR') call card_error(c, &
         'MASS PASSES counts the passes of the corrector: add MASS SOLVER=CORRECTOR (the '// &
-        'default MASS SOLVER=CHOLESKY solves exactly)')
+        'default MASS SOLVER=AUTO solves exactly)')
     if (rd%has_dynamic) call card_error(c, 'a second *DYNAMIC in the step')
     rd%has_dynamic = .true.
     d%step%dynamic_where = c%where

@@ -171,8 +171,9 @@ module ictus_io_deck_types
     real(dp) :: safety = 0.9_dp
     !> Relative residual at which the consistent-mass conjugate gradient stops (MASS TOL=).
     real(dp) :: mass_tol = 1.0e-12_dp
-    !> MASS SOLVER=CHOLESKY (default: M factorised once), CG or CORRECTOR.
-    character(len=16) :: mass_solver = 'CHOLESKY'
+    !> MASS SOLVER=AUTO (default: KRONECKER where it applies, else CHOLESKY), KRONECKER
+    !! (1D factors along lattice directions), CHOLESKY (M factorised once), CG or CORRECTOR.
+    character(len=16) :: mass_solver = 'AUTO'
     !> Corrector passes of MASS SOLVER=CORRECTOR (MASS PASSES=).
     integer :: mass_passes = 2
     !> Lumped-mass steps per sweep over the stiffness (SWEEP STEPS=).

@@ -1,8 +1,15 @@
 !> The mass operator of the time loop: a = M^-1 f on the free dofs, and v -> M v.
 !!
-!! Lumped mass: a division by the nodal mass. Consistent mass, two solvers:
+!! Lumped mass: a division by the nodal mass. Consistent mass, four solvers:
 !!
-!! * MASS_SOLVER_CHOLESKY (the default of the deck): M is factorised once (physics.md §4.1),
+!! * MASS_SOLVER_AUTO (the default of the deck) resolves at set-up to KRONECKER when the model
+!!   is made of tensor-product lattices whose mass that solver proves it solves exactly, and
+!!   to CHOLESKY otherwise (the log says which, and why).
+!! * MASS_SOLVER_KRONECKER: exact solves by 1D banded factors along the lattice directions of
+!!   NURBS patches and rectangular Q4/Q8/Q9 grids (ictus_solver_tensor_mass). Like the
+!!   Cholesky factor it runs on every rank on the gathered f, so the bits do not depend on
+!!   the number of ranks; its memory is a few vectors.
+!! * MASS_SOLVER_CHOLESKY: M is factorised once (physics.md §4.1),
 !!   sparse Cholesky in METIS nested-dissection order (ictus_solver_cholesky). Every rank
 !!   holds the factor of the whole M and solves the whole system after an allgather of f, so
 !!   the solution is the same bits on any number of ranks; the memory of the factor does not
@@ -36,11 +43,15 @@ module ictus_solver_mass_operator
   use ictus_core_timer, only: wall_time
   use ictus_solver_sparse, only: csr_t, csr_matvec, csr_diagonal, csr_row_sums, csr_copy
   use ictus_solver_domain, only: domain_t
-  use ictus_solver_model, only: MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+  use ictus_solver_model, only: MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+      MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
+  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_mass_t, tensor_mass_setup, &
+      tensor_mass_solve, tensor_mass_renumber, tensor_mass_describe
   implicit none
   private
   public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, &
-      mass_min_entry, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+      mass_min_entry, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+      MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
 
   !> Largest dense tail of the Cholesky factor (dofs kept in one component only); beyond it
   !! each component gets a factor of its own.
@@ -74,8 +85,13 @@ module ictus_solver_mass_operator
     !> Work vectors: residual r (2, nn) and M p in q (2, nn), CG only; direction p (2, nlocal:
     !! ghosts by halo), also the corrector's iterate.
     real(dp), allocatable :: r(:,:), p(:,:), q(:,:)
-    !> Consistent-mass solver (MASS_SOLVER_*).
+    !> Consistent-mass solver (MASS_SOLVER_*; AUTO is resolved by mass_op_init), and why
+    !! the set-up refused a solver (AUTO: why it is not KRONECKER).
     integer :: solver = MASS_SOLVER_CG
+    character(len=:), allocatable :: setup_msg
+    !> Kronecker solver, and the offset of this rank's owned nodes in the gathered vectors.
+    type(tensor_mass_t) :: tm
+    integer :: offset = 0
     !> Cholesky: the factor(s) of the whole M, the factor of each component, the rank sizes
     !! of the allgather (2 x owned nodes) and their offsets, the pivot of every gathered node
     !! and of every owned node, the send buffer (2 nn), the gathered f (2 nglobal), the
@@ -99,8 +115,11 @@ contains
   !! relative residual at which the conjugate gradient stops (default 1e-12); `solver` is a
   !! MASS_SOLVER_* (default CG); `passes` the corrector's k (default 2). `ierr` (when
   !! present) is 0, or 1 when the Cholesky factor cannot be made (see `cholesky_init`) or the
-  !! corrector meets a negative entry of M; without it such a failure is fatal.
-  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr, passes)
+  !! corrector meets a negative entry of M; without it such a failure is fatal. `layout`
+  !! (the model's lattices, ictus_solver_tensor_mass) is needed by MASS_SOLVER_KRONECKER and
+  !! AUTO; without it they are refused (AUTO: the Cholesky factor).
+  subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr, passes, &
+      layout)
     type(mass_op_t), intent(out) :: op
     type(domain_t), intent(in) :: dom
     logical, intent(in) :: consistent
@@ -111,7 +130,10 @@ contains
     integer, intent(in), optional :: solver
     integer, intent(out), optional :: ierr
     integer, intent(in), optional :: passes
-    real(dp), allocatable :: d(:)
+    type(tensor_layout_t), intent(in), optional :: layout
+    real(dp), allocatable :: d(:), val(:)
+    integer, allocatable :: cnt(:), gid(:), row_ptr(:), col(:)
+    logical, allocatable :: keep(:,:)
     integer :: i, c, nn, err, e
     character(len=:), allocatable :: msg
     nn = dom%nowned
@@ -179,8 +201,27 @@ contains
           err = 1
           msg = 'MASS SOLVER=CORRECTOR needs a mass matrix without negative entries'
         end if
-      else if (op%solver == MASS_SOLVER_CHOLESKY) then
-        call cholesky_init(op, dom, d, fixed, err, msg)
+      else if (op%solver /= MASS_SOLVER_CG) then
+        call gather_mass(op, dom, d, fixed, cnt, gid, row_ptr, col, val, keep)
+        if (op%solver == MASS_SOLVER_KRONECKER .or. op%solver == MASS_SOLVER_AUTO) then
+          if (present(layout)) then
+            call kronecker_init(op, dom, layout, cnt, gid, row_ptr, col, val, keep, err, msg)
+          else
+            err = 1
+            msg = 'no lattice layout of the model was given'
+          end if
+          if (err /= 0 .and. op%solver == MASS_SOLVER_AUTO) then
+            call log_info('consistent mass: not solved along lattice directions ('//msg// &
+                '); Cholesky factor instead')
+            op%setup_msg = msg
+            op%solver = MASS_SOLVER_CHOLESKY
+            err = 0
+          else if (err /= 0) then
+            msg = 'MASS SOLVER=KRONECKER: '//msg
+          end if
+        end if
+        if (op%solver == MASS_SOLVER_CHOLESKY) call cholesky_init(op, dom, cnt, gid, &
+            row_ptr, col, val, keep, err, msg)
       end if
       if (op%solver /= MASS_SOLVER_CG) then
         ! one decision for all ranks (a rank alone must not stop)
@@ -188,6 +229,7 @@ contains
         call allreduce_max(e)
         if (e /= 0) then
           if (err == 0) msg = 'the set-up of the mass solve failed on another rank'
+          op%setup_msg = msg
           if (.not. present(ierr)) call fatal('consistent mass', msg, 1)
           ierr = 1
           call log_info('consistent mass: '//msg)
@@ -196,30 +238,24 @@ contains
     end if
   end subroutine mass_op_init
 
-  !> The Cholesky factor of the whole consistent mass on every rank: the owned rows of every
-  !! rank (global node numbers) are gathered, ordered by METIS nested dissection and
-  !! factorised; a dof is kept when it is free and its node has mass (the CG's rule). The
-  !! components share one factor when their kept dofs are the same, else get one each.
-  !! err = 1 with `msg` when METIS fails, M is not positive definite or memory runs out.
-  subroutine cholesky_init(op, dom, d, fixed, err, msg)
-    type(mass_op_t), intent(inout) :: op
+  !> The whole consistent mass on every rank, in the order of the global node numbers: the
+  !! owned rows of every rank are gathered (row_ptr(ng + 1), col (global ids, sorted), val),
+  !! with keep(ng, 2) the dofs to solve (free, and the node has mass: the CG's rule), cnt the
+  !! owned nodes of every rank and gid the global id of every gathered node.
+  subroutine gather_mass(op, dom, d, fixed, cnt, gid, row_ptr, col, val, keep)
+    type(mass_op_t), intent(in) :: op
     type(domain_t), intent(in) :: dom
     real(dp), intent(in) :: d(:)
     logical, intent(in) :: fixed(:,:)
-    integer, intent(out) :: err
-    character(len=:), allocatable, intent(out) :: msg
-    integer, allocatable :: cnt(:), ncnt(:), gid(:), len_all(:), col_all(:), keep_all(:), &
-        row_ptr(:), col(:), order(:), keep_loc(:), rp_aug(:), col_aug(:)
-    real(dp), allocatable :: val_all(:), val(:)
-    logical, allocatable :: keep(:,:)
-    integer :: nn, ng, np, i, k, p, q, c, g, nnz, ntail
-    integer(i8) :: stored, need, avail
-    real(dp) :: t0, mem(2)
-    err = 0
+    integer, allocatable, intent(out) :: cnt(:), gid(:), row_ptr(:), col(:)
+    real(dp), allocatable, intent(out) :: val(:)
+    logical, allocatable, intent(out) :: keep(:,:)
+    integer, allocatable :: ncnt(:), len_all(:), col_all(:), keep_all(:), keep_loc(:)
+    real(dp), allocatable :: val_all(:)
+    integer :: nn, ng, np, i, k, p, q, c, g, nnz
     nn = op%nn
     ng = op%nglobal
     np = env_size()
-    t0 = wall_time()
     allocate(cnt(np), ncnt(np), gid(ng), len_all(ng))
     ! rows: global ids and lengths, then columns (global ids), values and kept dofs
     call allgather_int(nn, cnt)
@@ -256,7 +292,67 @@ contains
       keep(g, 2) = keep_all(2*q) == 1
       k = k + len_all(q)
     end do
-    deallocate(col_all, val_all, keep_all, len_all)
+  end subroutine gather_mass
+
+  !> The Kronecker solver of the gathered mass (ictus_solver_tensor_mass) on every rank.
+  !! err = 1 with `msg` when the mass is not what the lattices promise.
+  subroutine kronecker_init(op, dom, layout, cnt, gid, row_ptr, col, val, keep, err, msg)
+    type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(in) :: dom
+    type(tensor_layout_t), intent(in) :: layout
+    integer, intent(in) :: cnt(:), gid(:), row_ptr(:), col(:)
+    real(dp), intent(in) :: val(:)
+    logical, intent(in) :: keep(:,:)
+    integer, intent(out) :: err
+    character(len=:), allocatable, intent(out) :: msg
+    integer, allocatable :: pos(:)
+    integer :: q, ng, np
+    real(dp) :: t0
+    t0 = wall_time()
+    ng = op%nglobal
+    np = env_size()
+    call tensor_mass_setup(op%tm, layout, ng, row_ptr, col, val, keep, err, msg)
+    if (err /= 0) return
+    if (np > 1) then
+      ! read and write the gathered vectors: node g is at position pos(g)
+      allocate(pos(ng))
+      do q = 1, ng
+        pos(gid(q)) = q
+      end do
+      call tensor_mass_renumber(op%tm, pos)
+      op%counts = 2*cnt
+      op%displs = [0, (sum(op%counts(1:q)), q = 1, np - 1)]
+      op%offset = op%displs(dom%rank + 1)/2
+      call alloc_stream(op%x, 2, ng, 0.0_dp)
+      allocate(op%fsend(2*op%nn), op%fall(2*ng))
+    end if
+    op%solver = MASS_SOLVER_KRONECKER
+    call log_info('consistent mass: solved along lattice directions (MASS SOLVER=KRONECKER) '// &
+        'on '//tensor_mass_describe(op%tm)//', set-up and check '//str(wall_time() - t0, 3)// &
+        ' s')
+  end subroutine kronecker_init
+
+  !> The Cholesky factor of the whole consistent mass (gathered by `gather_mass`) on every
+  !! rank, ordered by METIS nested dissection and factorised. The components share one
+  !! factor when their kept dofs are the same, else get one each. err = 1 with `msg` when
+  !! METIS fails, M is not positive definite or memory runs out.
+  subroutine cholesky_init(op, dom, cnt, gid, row_ptr, col, val, keep, err, msg)
+    type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: cnt(:), gid(:), row_ptr(:), col(:)
+    real(dp), intent(in) :: val(:)
+    logical, intent(in) :: keep(:,:)
+    integer, intent(out) :: err
+    character(len=:), allocatable, intent(out) :: msg
+    integer, allocatable :: order(:), rp_aug(:), col_aug(:)
+    integer :: nn, ng, np, i, q, c, ntail
+    integer(i8) :: stored, need, avail
+    real(dp) :: t0, mem(2)
+    err = 0
+    nn = op%nn
+    ng = op%nglobal
+    np = env_size()
+    t0 = wall_time()
     ! dofs kept in one component only (e.g. a roller edge) are eliminated last, as one dense
     ! tail: the factor is shared up to there (ictus_solver_cholesky, chol_t%ntail)
     ntail = count(keep(:, 1) .neqv. keep(:, 2))
@@ -400,6 +496,22 @@ contains
     end if
     op%n_solves = op%n_solves + 1
     op%last_iter = 0
+    if (op%solver == MASS_SOLVER_KRONECKER) then
+      ! one rank: the owned nodes are the global ones, in order; several: as the Cholesky
+      ! path, on the gathered f, and take the owned rows
+      if (.not. allocated(op%fall)) then
+        call tensor_mass_solve(op%tm, f, a)
+        return
+      end if
+      do i = 1, nn
+        op%fsend(2*i - 1) = f(1, i)*op%free(1, i)
+        op%fsend(2*i) = f(2, i)*op%free(2, i)
+      end do
+      call allgatherv_real(op%fsend, op%counts, op%fall, op%displs)
+      call tensor_mass_solve(op%tm, op%fall, op%x)
+      a(:, 1:nn) = op%x(:, op%offset + 1:op%offset + nn)
+      return
+    end if
     if (op%solver == MASS_SOLVER_CHOLESKY) then
       ! f on the free dofs of every rank's nodes to every rank, solve, take the owned rows
       do i = 1, nn

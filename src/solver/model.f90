@@ -9,12 +9,16 @@ module ictus_solver_model
   use ictus_geometry_patch, only: patch_t
   implicit none
   private
-  public :: model_t, model_free, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR
+  public :: model_t, model_free, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+      MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
 
   !> Solvers of a consistent mass (*DYNAMIC, EXPLICIT, MASS SOLVER=): a conjugate gradient to
-  !! a tolerance, the Cholesky factor (exact), or a fixed number of row-sum-preconditioned
-  !! corrector passes (an approximate inverse; doc/theory.md §5).
-  integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2, MASS_SOLVER_CORRECTOR = 3
+  !! a tolerance, the Cholesky factor (exact), a fixed number of row-sum-preconditioned
+  !! corrector passes (an approximate inverse; doc/theory.md §5), 1D factors along the
+  !! directions of tensor-product lattices (exact; doc/theory.md §5.2), or AUTO: KRONECKER
+  !! where it applies, else CHOLESKY.
+  integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2, MASS_SOLVER_CORRECTOR = 3, &
+      MASS_SOLVER_KRONECKER = 4, MASS_SOLVER_AUTO = 5
 
   type :: model_t
     character(len=:), allocatable :: title
@@ -78,7 +82,7 @@ module ictus_solver_model
     real(dp) :: safety = 0.9_dp
     !> Consistent mass: its solver (MASS_SOLVER_*), the relative residual of the conjugate
     !! gradient and the number of passes of the corrector.
-    integer :: mass_solver = MASS_SOLVER_CHOLESKY
+    integer :: mass_solver = MASS_SOLVER_AUTO
     real(dp) :: mass_tol = 1.0e-12_dp
     integer :: mass_passes = 2
     !> Undamped lumped-mass steps without output per sweep over K (ictus_solver_sweep).

@@ -7,7 +7,9 @@ reproducible summation (doc/parallel.md). So the /history datasets, the field sn
 nodal masses, omega_max and dt must be identical, not just close, for any number of ranks.
 Cases: classic FE (Q8, HRZ and consistent mass, with damping), Q4 with a partition-cutting
 Dirichlet boundary, NURBS (a refined biquadratic patch, consistent mass by the Cholesky factor
-and by corrector passes, whose halo exchanges cut the partition), and the dynamic Hertz
+and by corrector passes, whose halo exchanges cut the partition), a rectangular Q8 grid and a
+rectangular NURBS patch whose consistent mass is solved along the lattice directions
+(MASS SOLVER=KRONECKER, taken by the default AUTO; the log must say so), and the dynamic Hertz
 problem with two-half-pass contact (NURBS HRZ, Q8 consistent) on partitions that cut right
 through the contact zone (checked from /model/partition). The cases named *_sweep record
 every 25 and 10 steps, so that the lumped-mass steps in between run as sweeps of several steps
@@ -31,19 +33,19 @@ SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, HISTORY, EVERY=25\n"
               "*OUTPUT, FIELD, EVERY=40\n*END STEP\n")
 
 
-def fe_deck(etype, mass, extra="", step=STEP):
+def fe_deck(etype, mass, extra="", step=STEP, distort=0.2):
     return ("*HEADING\nparallel determinism\n" + vcheck.material_block()
-            + vcheck.rect_mesh(type=etype, nx=12, ny=6, lx=3.0, ly=1.5, distort=0.2)
+            + vcheck.rect_mesh(type=etype, nx=12, ny=6, lx=3.0, ly=1.5, distort=distort)
             + "*BOUNDARY\nLEFT, 1, 2\nRIGHT, 1, 1, 0.01\n*INITIAL CONDITIONS, TYPE=VELOCITY\n"
             + "BODY, 2, -1.0\nTOP, 1, 0.5\n" + mass + "\n" + extra + step)
 
 
-def iga_deck(step=STEP):
+def iga_deck(step=STEP, rectangle=False):
     cps = []
     for j in range(3):
         for i in range(3):
-            x, y = 1.5 * i, 0.75 * j + 0.1 * i * j
-            cps.append(f"{x}, {y}, {1.0 if (i, j) != (1, 1) else 0.8}")
+            x, y = 1.5 * i, 0.75 * j + (0.0 if rectangle else 0.1 * i * j)
+            cps.append(f"{x}, {y}, {1.0 if (i, j) != (1, 1) or rectangle else 0.8}")
     return ("*HEADING\nparallel determinism, NURBS\n" + vcheck.material_block()
             + "*PATCH, NAME=P, MATERIAL=MAT, DEGREE=2,2, SIZE=3,3\n*KNOTS, DIRECTION=1\n"
             + "0 0 0 1 1 1\n*KNOTS, DIRECTION=2\n0 0 0 1 1 1\n*CONTROL POINTS\n"
@@ -79,6 +81,10 @@ def main():
              "q4_rowsum": fe_deck("Q4", "*MASS, TYPE=ROW SUM"),
              "iga_consistent": iga_deck(),
              "iga_corrector": iga_deck(STEP.replace("EXPLICIT", "EXPLICIT, MASS SOLVER=CORRECTOR")),
+             # rectangular grid and patch: the consistent mass solved along the lattice
+             # directions (MASS SOLVER=AUTO takes KRONECKER), on the gathered loads
+             "q8_kronecker": fe_deck("Q8", "*MASS, TYPE=CONSISTENT", distort=0.0),
+             "iga_kronecker": iga_deck(rectangle=True),
              "hertz_iga_hrz": hertz.deck(hertz.options(kind="iga", mass="HRZ", subdivide=8,
                                                        t_end=0.3, field_every=200), "test"),
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
@@ -99,6 +105,9 @@ def main():
             if tag.endswith("_sweep"):
                 chk.true("sweeps: 6 steps per sweep" in log, f"{tag}: np = {n} runs sweeps "
                          "of 6 steps")
+            if tag.endswith("_kronecker"):
+                chk.true("MASS SOLVER=KRONECKER" in log, f"{tag}: np = {n} solves the mass "
+                         "along the lattice directions")
         for n in (2, 3, 4):
             compare(chk, tag, results[1], results[n], n)
         if tag.endswith("_sweep"):

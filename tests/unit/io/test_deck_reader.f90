@@ -287,8 +287,8 @@ contains
     if (d%n_dampings == 1) call t%true(d%dampings(1)%alpha == 0.0_dp, 'patch: damping alpha 0')
     call t%true(d%step%dt == 5.0e-4_dp .and. d%step%t_end == 0.9_dp .and. &
         d%step%safety == 0.9_dp, 'patch: step with default safety')
-    call t%true(d%step%mass_solver == 'CHOLESKY' .and. d%step%mass_passes == 2, &
-        'patch: default MASS SOLVER=CHOLESKY')
+    call t%true(d%step%mass_solver == 'AUTO' .and. d%step%mass_passes == 2, &
+        'patch: default MASS SOLVER=AUTO')
     call t%true(d%step%history_every == 1 .and. d%step%field_every == 0 .and. &
         d%step%restart_every == 0, 'patch: output defaults')
   end subroutine case_patch_deck

@@ -1,0 +1,1328 @@
+!> Exact consistent-mass solves on tensor-product lattices: MASS SOLVER=KRONECKER
+!! (doc/theory.md §5.2).
+!!
+!! * **Kronecker blocks.** On a NURBS patch whose geometry and weights are separable (a
+!!   rectangle refined in any way, graded knots included), and on a grid of Q4 or Q9 elements
+!!   with axis-parallel sides, the consistent mass of each displacement component is a
+!!   Kronecker product M = A1 (x) A2 of two banded 1D masses (half bandwidth p). Its inverse
+!!   A1^-1 (x) A2^-1 is two sweeps of banded Cholesky solves, one along each lattice
+!!   direction: O(n) work, no stored factor beyond the 1D ones (the structure Gao & Calo,
+!!   CMAME 2014, use for explicit IGA). A1 and A2 are read off the assembled M.
+!! * **Serendipity blocks.** On a grid of Q8 elements with axis-parallel sides the mass is not
+!!   a Kronecker product, but the serendipity space is the biquadratic one without the
+!!   bubble (x) bubble functions of the hierarchical basis (vertex hats V and element bubbles B
+!!   in each direction): Q8 = span{V(x)V, V(x)B, B(x)V}. So its mass is the principal
+!!   submatrix of the Q9 mass Â1 (x) Â2 (hierarchical 1D masses from the node coordinates)
+!!   without the B x B rows. With S the Kronecker inverse and E the B x B selection, the
+!!   capacitance formula gives the solve x = S g - S E (E^T S E)^-1 E^T S g, and
+!!   E^T S E = (Â1^-1)_BB (x) (Â2^-1)_BB is again a Kronecker product whose factors have the
+!!   Schur complements Â_BB - Â_BV Â_VV^-1 Â_VB as inverses (tridiagonal solves). One solve:
+!!   two Kronecker solves, one Schur product on the element lattice, two basis changes.
+!! * **Dirichlet conditions.** A lattice line fixed in a component becomes an identity row of
+!!   that component's 1D matrix (for Q8 only vertex lines). Other fixed dofs (say the one
+!!   point of a roller edge fixed along the edge) are up to `max_points` isolated points: a
+!!   second capacitance correction with the responses to unit loads there, computed once.
+!!
+!! `tensor_layout` finds the lattices in the model; `tensor_mass_setup` builds the 1D matrices
+!! and proves the result: M v for pseudo-random v must solve back to v within 1e-9 (relative),
+!! so a mesh that only looks like a lattice (a distorted grid, a non-uniform density, weights
+!! that are not separable) is refused with the reason, and the caller falls back to another
+!! solver. The solve allocates nothing.
+module ictus_solver_tensor_mass
+  use ictus_core_kinds, only: dp
+  use ictus_core_strings, only: str
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
+  use ictus_solver_model, only: model_t
+  implicit none
+  private
+  public :: tensor_layout_t, tensor_mass_t, tensor_layout, tensor_mass_setup, &
+      tensor_mass_solve, tensor_mass_renumber, tensor_mass_describe, TENSOR_DIRECT, &
+      TENSOR_SERENDIPITY
+
+  !> Block kinds: a Kronecker-product mass, or the Q8 mass inside the Q9 one.
+  integer, parameter :: TENSOR_DIRECT = 1, TENSOR_SERENDIPITY = 2
+  !> Most isolated fixed points per block and component (each costs one lattice-sized
+  !! response vector and one pass per solve).
+  integer, parameter :: max_points = 8
+  !> Relative error of the set-up check M v -> v above which the lattice is refused.
+  real(dp), parameter :: check_tol = 1.0e-9_dp
+  !> Columns solved together along direction 1: their recurrences run as one vector of
+  !! col_block lanes (4 AVX-512 registers), whose last kd values stay in registers.
+  integer, parameter :: col_block = 32
+
+  !> One lattice as found in the model: n(1) x n(2) points, the node at each (0: none, the
+  !! centre of a Q8 element), and for Q8 the coordinate of each lattice line.
+  type :: lattice_t
+    integer :: kind = TENSOR_DIRECT
+    integer :: n(2) = 0
+    integer, allocatable :: node(:,:)
+    real(dp), allocatable :: x1(:), x2(:)
+    !> What the lattice is, for the log (e.g. "patch BODY", "Q8 grid").
+    character(len=:), allocatable :: what
+  end type lattice_t
+
+  !> The lattices of a model (nblocks = 0 when it has none; `reason` says why).
+  type :: tensor_layout_t
+    integer :: nblocks = 0
+    type(lattice_t), allocatable :: b(:)
+    character(len=:), allocatable :: reason
+  end type tensor_layout_t
+
+  !> A symmetric band matrix a(k, i) = A(i, i - k), k = 0..kd, and its Cholesky factor
+  !! l(0, i) = 1/L(i, i), l(k, i) = L(i, i - k).
+  type :: band_t
+    integer :: n = 0
+    integer :: kd = 0
+    real(dp), allocatable :: a(:,:), l(:,:)
+  end type band_t
+
+  !> One component of one block: the fixed lines of each direction (fix1, fix2; rows1 lists
+  !! those of direction 1), the 1D matrices with the fixed lines as identity rows
+  !! (hierarchical for Q8), the factor of their vertex parts (Q8), and the isolated fixed
+  !! points with their unit responses w(:, :, k) and the Cholesky factor h of the
+  !! capacitance matrix H(l, k) = w(pts(l), k).
+  type :: comp_t
+    type(band_t) :: m(2)
+    type(band_t) :: v(2)
+    logical, allocatable :: fix1(:), fix2(:)
+    integer, allocatable :: rows1(:)
+    integer :: npts = 0
+    integer, allocatable :: pts(:,:)
+    real(dp), allocatable :: w(:,:,:), h(:,:), beta(:)
+  end type comp_t
+
+  !> One block: its kind and lattice, both components, and the work arrays of a solve: the
+  !! lattice z(:, :, c) of each component (and g for Q8), the B x B values r and the Schur
+  !! work t and tb (Q8; tb holds col_block columns transposed).
+  type :: tblock_t
+    integer :: kind = TENSOR_DIRECT
+    integer :: n(2) = 0
+    integer :: ne(2) = 0
+    integer, allocatable :: node(:,:)
+    type(comp_t) :: c(2)
+    real(dp), allocatable :: z(:,:,:), g(:,:,:), r(:,:,:), t(:,:), tb(:,:)
+    character(len=:), allocatable :: what
+  end type tblock_t
+
+  !> The solver: its blocks and the nodes outside every block (massless: zero result).
+  type :: tensor_mass_t
+    integer :: nblocks = 0
+    type(tblock_t), allocatable :: b(:)
+    integer, allocatable :: outside(:)
+  end type tensor_mass_t
+
+contains
+
+  ! ------------------------------------------------------------------ lattices of a model
+
+  !> Finds the lattices of `model`: one per NURBS patch when all elements are patch spans,
+  !! or one per connected group of elements when all are Q4, Q8 or Q9 elements whose nodes
+  !! sit on a rectangular grid of lines (axis-parallel). Otherwise lay%nblocks = 0 and
+  !! lay%reason says why.
+  subroutine tensor_layout(model, lay)
+    type(model_t), intent(in) :: model
+    type(tensor_layout_t), intent(out) :: lay
+    integer :: p, i, j, n1, n2, et
+    if (model%nel == 0) then
+      lay%reason = 'the model has no elements'
+      return
+    end if
+    if (all(model%etype == ETYPE_IGA)) then
+      allocate(lay%b(model%npatch))
+      do p = 1, model%npatch
+        n1 = model%patches(p)%n(1)
+        n2 = model%patches(p)%n(2)
+        lay%b(p)%kind = TENSOR_DIRECT
+        lay%b(p)%n = [n1, n2]
+        allocate(lay%b(p)%node(n1, n2))
+        do j = 1, n2
+          do i = 1, n1
+            lay%b(p)%node(i, j) = model%patch_offset(p) + i + (j - 1)*n1
+          end do
+        end do
+        lay%b(p)%what = 'patch '//trim(model%patches(p)%name)
+      end do
+      lay%nblocks = model%npatch
+      return
+    end if
+    if (any(model%etype == ETYPE_IGA)) then
+      lay%reason = 'finite elements and NURBS patches are mixed'
+      return
+    end if
+    et = model%etype(1)
+    if (any(model%etype /= et)) then
+      lay%reason = 'the elements are of more than one type'
+      return
+    end if
+    call fe_lattices(model, et, lay)
+  end subroutine tensor_layout
+
+  !> The lattices of a mesh of one finite-element type: connected groups of elements
+  !! (through shared nodes), each checked to be a rectangular grid.
+  subroutine fe_lattices(model, et, lay)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: et
+    type(tensor_layout_t), intent(inout) :: lay
+    integer, allocatable :: parent(:), root_of_el(:), group(:), el_order(:), first(:)
+    integer :: e, a, r, s, ngroups, k, g
+    type(lattice_t), allocatable :: tmp(:)
+    character(len=:), allocatable :: why
+    if (et /= ETYPE_Q4 .and. et /= ETYPE_Q8 .and. et /= ETYPE_Q9) then
+      lay%reason = 'the elements are not Q4, Q8 or Q9'
+      return
+    end if
+    ! union-find over the nodes of each element
+    allocate(parent(model%nn))
+    parent = [(a, a = 1, model%nn)]
+    do e = 1, model%nel
+      r = find_root(parent, model%conn(1, e))
+      do a = 2, model%nen(e)
+        s = find_root(parent, model%conn(a, e))
+        if (s /= r) parent(max(r, s)) = min(r, s)
+        r = min(r, s)
+      end do
+    end do
+    allocate(root_of_el(model%nel), group(model%nn), source=0)
+    ngroups = 0
+    do e = 1, model%nel
+      r = find_root(parent, model%conn(1, e))
+      if (group(r) == 0) then
+        ngroups = ngroups + 1
+        group(r) = ngroups
+      end if
+      root_of_el(e) = group(r)
+    end do
+    ! elements of each group, in element order
+    allocate(first(ngroups + 1), source=0)
+    do e = 1, model%nel
+      first(root_of_el(e) + 1) = first(root_of_el(e) + 1) + 1
+    end do
+    first(1) = 1
+    do g = 1, ngroups
+      first(g + 1) = first(g) + first(g + 1)
+    end do
+    allocate(el_order(model%nel))
+    group(1:ngroups) = first(1:ngroups)
+    do e = 1, model%nel
+      k = root_of_el(e)
+      el_order(group(k)) = e
+      group(k) = group(k) + 1
+    end do
+    allocate(tmp(ngroups))
+    do g = 1, ngroups
+      call grid_lattice(model, et, el_order(first(g):first(g + 1) - 1), tmp(g), why)
+      if (len(why) > 0) then
+        lay%reason = why
+        return
+      end if
+    end do
+    call move_alloc(tmp, lay%b)
+    lay%nblocks = ngroups
+  end subroutine fe_lattices
+
+  !> Root of node i in the union-find forest (with path halving).
+  integer function find_root(parent, i) result(r)
+    integer, intent(inout) :: parent(:)
+    integer, intent(in) :: i
+    r = i
+    do while (parent(r) /= r)
+      parent(r) = parent(parent(r))
+      r = parent(r)
+    end do
+  end function find_root
+
+  !> The lattice of one connected group of elements `els` of type et, or `why` (non-empty)
+  !! when they do not form a rectangular grid: node coordinates on n1 x lines and n2 y lines,
+  !! every lattice point a node (Q8: except the element centres), every element one cell.
+  subroutine grid_lattice(model, et, els, lat, why)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: et, els(:)
+    type(lattice_t), intent(out) :: lat
+    character(len=:), allocatable, intent(out) :: why
+    integer, allocatable :: nodes(:), li(:), lj(:), cell(:,:)
+    logical, allocatable :: seen(:)
+    real(dp), allocatable :: xs(:), ys(:)
+    real(dp) :: tol, ext
+    integer :: e, a, k, n1, n2, step, i0, j0, i, j, nn, expected, ne1, ne2
+    why = ''
+    allocate(seen(model%nn), source=.false.)
+    do k = 1, size(els)
+      seen(model%conn(1:model%nen(els(k)), els(k))) = .true.
+    end do
+    nodes = pack([(a, a = 1, model%nn)], seen)
+    nn = size(nodes)
+    ext = max(maxval(model%x0(1, nodes)) - minval(model%x0(1, nodes)), &
+        maxval(model%x0(2, nodes)) - minval(model%x0(2, nodes)))
+    tol = 1.0e-9_dp*ext
+    xs = distinct(model%x0(1, nodes), tol)
+    ys = distinct(model%x0(2, nodes), tol)
+    n1 = size(xs)
+    n2 = size(ys)
+    step = 1
+    if (et /= ETYPE_Q4) step = 2
+    if (mod(n1 - 1, step) /= 0 .or. mod(n2 - 1, step) /= 0 .or. n1 < 2 .or. n2 < 2) then
+      why = 'the nodes do not lie on a grid of lines parallel to the axes'
+      return
+    end if
+    ne1 = (n1 - 1)/step
+    ne2 = (n2 - 1)/step
+    expected = n1*n2
+    if (et == ETYPE_Q8) expected = n1*n2 - ne1*ne2
+    if (nn /= expected .or. size(els) /= ne1*ne2) then
+      why = 'the nodes do not lie on a grid of lines parallel to the axes'
+      return
+    end if
+    allocate(lat%node(n1, n2), source=0)
+    allocate(li(model%nn), lj(model%nn), source=0)
+    do k = 1, nn
+      i = locate(xs, model%x0(1, nodes(k)), tol)
+      j = locate(ys, model%x0(2, nodes(k)), tol)
+      if (lat%node(i, j) /= 0 .or. (et == ETYPE_Q8 .and. mod(i, 2) == 0 .and. &
+          mod(j, 2) == 0)) then
+        why = 'the nodes do not lie on a grid of lines parallel to the axes'
+        return
+      end if
+      lat%node(i, j) = nodes(k)
+      li(nodes(k)) = i
+      lj(nodes(k)) = j
+    end do
+    ! every element fills one cell of step x step lattice intervals, each cell once
+    allocate(cell(ne1, ne2), source=0)
+    do k = 1, size(els)
+      e = els(k)
+      associate (ii => li(model%conn(1:model%nen(e), e)), jj => lj(model%conn(1:model%nen(e), e)))
+        i0 = minval(ii)
+        j0 = minval(jj)
+        if (maxval(ii) - i0 /= step .or. maxval(jj) - j0 /= step .or. mod(i0 - 1, step) /= 0 &
+            .or. mod(j0 - 1, step) /= 0) then
+          why = 'an element is not one cell of the grid of lines'
+          return
+        end if
+        cell(1 + (i0 - 1)/step, 1 + (j0 - 1)/step) = cell(1 + (i0 - 1)/step, &
+            1 + (j0 - 1)/step) + 1
+      end associate
+    end do
+    if (any(cell /= 1)) then
+      why = 'the elements do not cover the grid of lines once'
+      return
+    end if
+    lat%kind = TENSOR_DIRECT
+    if (et == ETYPE_Q8) lat%kind = TENSOR_SERENDIPITY
+    lat%n = [n1, n2]
+    lat%x1 = xs
+    lat%x2 = ys
+    select case (et)
+    case (ETYPE_Q4)
+      lat%what = 'Q4 grid'
+    case (ETYPE_Q8)
+      lat%what = 'Q8 grid'
+    case default
+      lat%what = 'Q9 grid'
+    end select
+    lat%what = lat%what//' of '//str(ne1)//' x '//str(ne2)//' elements'
+  end subroutine grid_lattice
+
+  !> The distinct values of v (ascending; values closer than tol are one).
+  function distinct(v, tol) result(d)
+    real(dp), intent(in) :: v(:), tol
+    real(dp), allocatable :: d(:), s(:)
+    integer :: i, k
+    allocate(s, source=v)
+    call heap_sort(s)
+    allocate(d(size(s)))
+    k = 0
+    do i = 1, size(s)
+      if (k > 0) then
+        if (s(i) - d(k) <= tol) cycle
+      end if
+      k = k + 1
+      d(k) = s(i)
+    end do
+    d = d(1:k)
+  end function distinct
+
+  !> Index of the entry of the ascending list d within tol of x (bisection; 1..size(d)).
+  pure integer function locate(d, x, tol) result(k)
+    real(dp), intent(in) :: d(:), x, tol
+    integer :: lo, hi, mid
+    lo = 1
+    hi = size(d)
+    do while (lo < hi)
+      mid = (lo + hi)/2
+      if (d(mid) < x - tol) then
+        lo = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+    k = lo
+  end function locate
+
+  !> In-place ascending heap sort (n log n; the coordinate lists have millions of entries).
+  pure subroutine heap_sort(v)
+    real(dp), intent(inout) :: v(:)
+    integer :: n, i
+    real(dp) :: t
+    n = size(v)
+    do i = n/2, 1, -1
+      call sift(v, i, n)
+    end do
+    do i = n, 2, -1
+      t = v(1)
+      v(1) = v(i)
+      v(i) = t
+      call sift(v, 1, i - 1)
+    end do
+  end subroutine heap_sort
+
+  pure subroutine sift(v, start, last)
+    real(dp), intent(inout) :: v(:)
+    integer, intent(in) :: start, last
+    integer :: root, child
+    real(dp) :: t
+    root = start
+    do while (2*root <= last)
+      child = 2*root
+      if (child < last) then
+        if (v(child + 1) > v(child)) child = child + 1
+      end if
+      if (v(root) >= v(child)) return
+      t = v(root)
+      v(root) = v(child)
+      v(child) = t
+      root = child
+    end do
+  end subroutine sift
+
+  ! ------------------------------------------------------------------ set-up
+
+  !> Builds the solver for the lattices `lay` of the global consistent mass (ng rows,
+  !! columns sorted, global node numbers) with keep(ng, 2) the solved dofs of each component.
+  !! ierr = 0, or 1 with `reason` when the mass is not what the lattices promise.
+  subroutine tensor_mass_setup(tm, lay, ng, row_ptr, col, val, keep, ierr, reason)
+    type(tensor_mass_t), intent(out) :: tm
+    type(tensor_layout_t), intent(in) :: lay
+    integer, intent(in) :: ng, row_ptr(:), col(:)
+    real(dp), intent(in) :: val(:)
+    logical, intent(in) :: keep(:,:)
+    integer, intent(out) :: ierr
+    character(len=:), allocatable, intent(out) :: reason
+    integer, allocatable :: blk(:), li(:), lj(:)
+    integer :: ib, i, j, k, q, c, n1, n2, kd(2)
+    real(dp) :: err
+    ierr = 1
+    reason = ''
+    if (lay%nblocks == 0) then
+      reason = lay%reason
+      return
+    end if
+    ! where each node sits; the couplings must stay inside a block
+    allocate(blk(ng), li(ng), lj(ng), source=0)
+    do ib = 1, lay%nblocks
+      do j = 1, lay%b(ib)%n(2)
+        do i = 1, lay%b(ib)%n(1)
+          k = lay%b(ib)%node(i, j)
+          if (k == 0) cycle
+          if (k > ng .or. blk(min(k, ng)) /= 0) then
+            reason = 'a node belongs to two lattices'
+            return
+          end if
+          blk(k) = ib
+          li(k) = i
+          lj(k) = j
+        end do
+      end do
+    end do
+    tm%nblocks = lay%nblocks
+    allocate(tm%b(lay%nblocks))
+    tm%outside = pack([(k, k = 1, ng)], blk == 0)
+    do q = 1, size(tm%outside)
+      if (keep(tm%outside(q), 1) .or. keep(tm%outside(q), 2)) then
+        reason = 'a node with mass lies outside the lattices'
+        return
+      end if
+    end do
+    do ib = 1, lay%nblocks
+      kd = 0
+      do j = 1, lay%b(ib)%n(2)
+        do i = 1, lay%b(ib)%n(1)
+          k = lay%b(ib)%node(i, j)
+          if (k == 0) cycle
+          do q = row_ptr(k), row_ptr(k + 1) - 1
+            if (blk(col(q)) /= ib) then
+              reason = 'the mass couples two lattices'
+              return
+            end if
+            kd(1) = max(kd(1), abs(li(col(q)) - i))
+            kd(2) = max(kd(2), abs(lj(col(q)) - j))
+          end do
+        end do
+      end do
+      associate (b => tm%b(ib), l => lay%b(ib))
+        b%kind = l%kind
+        b%n = l%n
+        b%node = l%node
+        b%what = l%what
+        n1 = l%n(1)
+        n2 = l%n(2)
+        b%ne = (l%n - 1)/2
+        if (b%kind == TENSOR_DIRECT) then
+          call fit_direct(l, kd, row_ptr, col, val, b%c(1)%m, ierr)
+          if (ierr /= 0) then
+            reason = 'the mass is not a Kronecker product on '//l%what
+            return
+          end if
+          b%c(2)%m = b%c(1)%m
+        else
+          call serendipity_masses(l, ng, row_ptr, val, b%c(1)%m)
+          b%c(2)%m = b%c(1)%m
+        end if
+        allocate(b%z(n1, n2, 2), b%tb(col_block, max(n1, n2) + 1))
+        if (b%kind == TENSOR_SERENDIPITY) allocate(b%g(n1, n2, 2), &
+            b%r(b%ne(1), b%ne(2), 2), b%t(b%ne(1), b%ne(2) + 1))
+        do c = 1, 2
+          call component_setup(b, c, keep(:, c), ierr, reason)
+          if (ierr /= 0) then
+            reason = reason//' on '//l%what
+            return
+          end if
+        end do
+      end associate
+    end do
+    ! the proof: M v solved back to v for two pseudo-random v on the solved dofs
+    call self_check(tm, ng, row_ptr, col, val, keep, err)
+    if (.not. err <= check_tol) then
+      ierr = 1
+      reason = 'the mass is not the tensor-product mass of the lattices (M v solved back '// &
+          'with a relative error of '//str(err, 3)//')'
+      return
+    end if
+    ierr = 0
+  end subroutine tensor_mass_setup
+
+  !> The 1D masses of a Kronecker block read off M: A1(i, k) = M((i, j0), (k, j0)),
+  !! A2(j, l) = M((i0, j), (i0, l)) / M((i0, j0), (i0, j0)) at the middle lattice point.
+  !! ierr = 1 when an entry is missing or the pivot is not positive.
+  subroutine fit_direct(l, kd, row_ptr, col, val, m, ierr)
+    type(lattice_t), intent(in) :: l
+    integer, intent(in) :: kd(2), row_ptr(:), col(:)
+    real(dp), intent(in) :: val(:)
+    type(band_t), intent(out) :: m(2)
+    integer, intent(out) :: ierr
+    integer :: i0, j0, i, j, k
+    real(dp) :: a0
+    ierr = 1
+    i0 = (l%n(1) + 1)/2
+    j0 = (l%n(2) + 1)/2
+    a0 = entry(l%node(i0, j0), l%node(i0, j0))
+    if (.not. a0 > 0.0_dp) return
+    call band_alloc(m(1), l%n(1), kd(1))
+    call band_alloc(m(2), l%n(2), kd(2))
+    do i = 1, l%n(1)
+      do k = 0, min(kd(1), i - 1)
+        m(1)%a(k, i) = entry(l%node(i, j0), l%node(i - k, j0))
+      end do
+    end do
+    do j = 1, l%n(2)
+      do k = 0, min(kd(2), j - 1)
+        m(2)%a(k, j) = entry(l%node(i0, j), l%node(i0, j - k))/a0
+      end do
+    end do
+    ierr = 0
+  contains
+    !> M(a, b) (0 when not stored), by bisection in the sorted row a.
+    real(dp) function entry(a, b)
+      integer, intent(in) :: a, b
+      integer :: lo, hi, mid
+      entry = 0.0_dp
+      lo = row_ptr(a)
+      hi = row_ptr(a + 1) - 1
+      do while (lo <= hi)
+        mid = (lo + hi)/2
+        if (col(mid) == b) then
+          entry = val(mid)
+          return
+        else if (col(mid) < b) then
+          lo = mid + 1
+        else
+          hi = mid - 1
+        end if
+      end do
+    end function entry
+  end subroutine fit_direct
+
+  !> The hierarchical 1D masses of a Q8 block: per element of length h the quadratic
+  !! Lagrange mass h/30 [4 2 -1; 2 16 2; -1 2 4] in the basis (left hat, bubble, right hat),
+  !! assembled along each direction; scaled so that their Kronecker product has the block's
+  !! total mass (the sum of all entries of its rows of M: density x thickness x area).
+  subroutine serendipity_masses(l, ng, row_ptr, val, m)
+    type(lattice_t), intent(in) :: l
+    integer, intent(in) :: ng, row_ptr(:)
+    real(dp), intent(in) :: val(:)
+    type(band_t), intent(out) :: m(2)
+    real(dp), parameter :: lag(3, 3) = reshape([4.0_dp, 2.0_dp, -1.0_dp, 2.0_dp, 16.0_dp, &
+        2.0_dp, -1.0_dp, 2.0_dp, 4.0_dp], [3, 3])/30.0_dp
+    real(dp), parameter :: hmat(3, 3) = reshape([1.0_dp, 0.5_dp, 0.0_dp, 0.0_dp, 1.0_dp, &
+        0.0_dp, 0.0_dp, 0.5_dp, 1.0_dp], [3, 3])
+    real(dp) :: he(3, 3), total, s(2)
+    integer :: d, e, a, b, i, j, k, n
+    he = matmul(transpose(hmat), matmul(lag, hmat))
+    do d = 1, 2
+      n = l%n(d)
+      call band_alloc(m(d), n, 2)
+      do e = 1, (n - 1)/2
+        do b = 1, 3
+          do a = b, 3
+            i = 2*e - 2 + a
+            j = 2*e - 2 + b
+            if (d == 1) then
+              m(d)%a(i - j, i) = m(d)%a(i - j, i) + (l%x1(2*e + 1) - l%x1(2*e - 1))*he(a, b)
+            else
+              m(d)%a(i - j, i) = m(d)%a(i - j, i) + (l%x2(2*e + 1) - l%x2(2*e - 1))*he(a, b)
+            end if
+          end do
+        end do
+      end do
+    end do
+    ! the total mass of the block: all entries of its rows
+    total = 0.0_dp
+    do j = 1, l%n(2)
+      do i = 1, l%n(1)
+        k = l%node(i, j)
+        if (k > 0 .and. k <= ng) total = total + sum(val(row_ptr(k):row_ptr(k + 1) - 1))
+      end do
+    end do
+    s(1) = l%x1(l%n(1)) - l%x1(1)
+    s(2) = l%x2(l%n(2)) - l%x2(1)
+    m(1)%a = m(1)%a*(total/(s(1)*s(2)))
+  end subroutine serendipity_masses
+
+  !> One component of a block: the fixed lattice lines (whole lines of dofs not kept; for Q8
+  !! vertex lines only), the isolated fixed points, the modified 1D matrices and their
+  !! factors, and the unit responses of the points with their capacitance factor.
+  subroutine component_setup(b, c, keep, ierr, reason)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c
+    logical, intent(in) :: keep(:)
+    integer, intent(out) :: ierr
+    character(len=:), allocatable, intent(inout) :: reason
+    integer :: i, j, k, l, n1, n2, np, step
+    logical :: fixed_here
+    associate (cp => b%c(c))
+      n1 = b%n(1)
+      n2 = b%n(2)
+      step = 1
+      if (b%kind == TENSOR_SERENDIPITY) step = 2
+      allocate(cp%fix1(n1), cp%fix2(n2), source=.false.)
+      do i = 1, n1, step
+        cp%fix1(i) = .true.
+        do j = 1, n2
+          if (b%node(i, j) > 0) cp%fix1(i) = cp%fix1(i) .and. .not. keep(max(b%node(i, j), 1))
+        end do
+      end do
+      do j = 1, n2, step
+        cp%fix2(j) = .true.
+        do i = 1, n1
+          if (b%node(i, j) > 0) cp%fix2(j) = cp%fix2(j) .and. .not. keep(max(b%node(i, j), 1))
+        end do
+      end do
+      cp%rows1 = pack([(i, i = 1, n1)], cp%fix1)
+      ! the other fixed dofs: isolated points
+      np = 0
+      do j = 1, n2
+        do i = 1, n1
+          if (b%node(i, j) == 0) cycle
+          fixed_here = .not. keep(b%node(i, j))
+          if (fixed_here .and. .not. (cp%fix1(i) .or. cp%fix2(j))) np = np + 1
+        end do
+      end do
+      if (np > max_points) then
+        ierr = 1
+        reason = str(np)//' fixed dofs of component '//str(c)//' are not on whole lattice '// &
+            'lines (at most '//str(max_points)//' can be)'
+        return
+      end if
+      cp%npts = np
+      allocate(cp%pts(2, np), cp%w(n1, n2, np), cp%h(np, np), cp%beta(np))
+      np = 0
+      do j = 1, n2
+        do i = 1, n1
+          if (b%node(i, j) == 0) cycle
+          if (.not. keep(b%node(i, j)) .and. .not. (cp%fix1(i) .or. cp%fix2(j))) then
+            np = np + 1
+            cp%pts(:, np) = [i, j]
+          end if
+        end do
+      end do
+      call fix_lines(cp%m(1), cp%fix1)
+      call fix_lines(cp%m(2), cp%fix2)
+      do k = 1, 2
+        call band_factor(cp%m(k), ierr)
+        if (ierr /= 0) then
+          reason = 'a 1D mass is not positive definite'
+          return
+        end if
+        if (b%kind == TENSOR_SERENDIPITY) then
+          call vertex_part(cp%m(k), cp%v(k))
+          call band_factor(cp%v(k), ierr)
+          if (ierr /= 0) then
+            reason = 'a 1D vertex mass is not positive definite'
+            return
+          end if
+        end if
+      end do
+      ! unit responses of the points (without the point correction) and the capacitance
+      cp%w = 0.0_dp
+      do k = 1, cp%npts
+        call base_solve(b, c, c, unit=cp%pts(:, k))
+        call nodal_lattice(b, c, cp%w(:, :, k))
+      end do
+      do k = 1, cp%npts
+        do l = 1, cp%npts
+          cp%h(l, k) = cp%w(cp%pts(1, l), cp%pts(2, l), k)
+        end do
+      end do
+      call small_cholesky(cp%npts, cp%h, ierr)
+      if (ierr /= 0) then
+        reason = 'the capacitance matrix of the fixed points is not positive definite'
+        return
+      end if
+    end associate
+    ierr = 0
+  end subroutine component_setup
+
+  !> Rows and columns of the fixed indices become identity rows.
+  subroutine fix_lines(m, fix)
+    type(band_t), intent(inout) :: m
+    logical, intent(in) :: fix(:)
+    integer :: i, k
+    do i = 1, m%n
+      if (.not. fix(i)) cycle
+      m%a(:, i) = 0.0_dp
+      m%a(0, i) = 1.0_dp
+      do k = 1, min(m%kd, m%n - i)
+        m%a(k, i + k) = 0.0_dp
+      end do
+    end do
+  end subroutine fix_lines
+
+  !> The vertex part of a hierarchical 1D mass (odd indices; tridiagonal).
+  subroutine vertex_part(m, v)
+    type(band_t), intent(in) :: m
+    type(band_t), intent(out) :: v
+    integer :: i
+    call band_alloc(v, (m%n + 1)/2, 1)
+    do i = 1, v%n
+      v%a(0, i) = m%a(0, 2*i - 1)
+      if (i > 1) v%a(1, i) = m%a(2, 2*i - 1)
+    end do
+  end subroutine vertex_part
+
+  subroutine band_alloc(m, n, kd)
+    type(band_t), intent(out) :: m
+    integer, intent(in) :: n, kd
+    m%n = n
+    m%kd = kd
+    allocate(m%a(0:kd, n), m%l(0:kd, n), source=0.0_dp)
+  end subroutine band_alloc
+
+  !> Banded Cholesky factor A = L L^T; ierr = i when pivot i is not positive.
+  subroutine band_factor(m, ierr)
+    type(band_t), intent(inout) :: m
+    integer, intent(out) :: ierr
+    integer :: i, j, k, kd
+    real(dp) :: s
+    kd = m%kd
+    m%l = 0.0_dp
+    ierr = 0
+    do i = 1, m%n
+      do j = max(1, i - kd), i - 1
+        s = m%a(i - j, i)
+        do k = max(1, i - kd), j - 1
+          s = s - m%l(i - k, i)*m%l(j - k, j)
+        end do
+        m%l(i - j, i) = s*m%l(0, j)
+      end do
+      s = m%a(0, i)
+      do k = max(1, i - kd), i - 1
+        s = s - m%l(i - k, i)**2
+      end do
+      if (.not. s > 0.0_dp) then
+        ierr = i
+        return
+      end if
+      m%l(0, i) = 1.0_dp/sqrt(s)
+    end do
+  end subroutine band_factor
+
+  !> Cholesky factor of a small dense SPD matrix in place (lower triangle; diagonal holds
+  !! the inverse of L(i, i)); ierr = 1 when it is not positive definite.
+  subroutine small_cholesky(n, h, ierr)
+    integer, intent(in) :: n
+    real(dp), intent(inout) :: h(n, n)
+    integer, intent(out) :: ierr
+    integer :: i, j, k
+    real(dp) :: s
+    ierr = 0
+    do i = 1, n
+      do j = 1, i - 1
+        s = h(i, j)
+        do k = 1, j - 1
+          s = s - h(i, k)*h(j, k)
+        end do
+        h(i, j) = s*h(j, j)
+      end do
+      s = h(i, i)
+      do k = 1, i - 1
+        s = s - h(i, k)**2
+      end do
+      if (.not. s > 0.0_dp) then
+        ierr = 1
+        return
+      end if
+      h(i, i) = 1.0_dp/sqrt(s)
+    end do
+  end subroutine small_cholesky
+
+  !> The set-up check: for two pseudo-random v (zero on the dofs not solved), f = M v and
+  !! x = solve(f); err = max |x - v| / max |v|.
+  subroutine self_check(tm, ng, row_ptr, col, val, keep, err)
+    type(tensor_mass_t), intent(inout) :: tm
+    integer, intent(in) :: ng, row_ptr(:), col(:)
+    real(dp), intent(in) :: val(:)
+    logical, intent(in) :: keep(:,:)
+    real(dp), intent(out) :: err
+    real(dp), allocatable :: v(:,:), f(:,:), x(:,:)
+    integer :: trial, i, c, q
+    integer :: seed
+    allocate(v(2, ng), f(2, ng), x(2, ng))
+    err = 0.0_dp
+    seed = 12345
+    do trial = 1, 2
+      do i = 1, ng
+        do c = 1, 2
+          seed = modulo(1103515245*seed + 12345, 2147483647)
+          v(c, i) = merge(real(seed, dp)/2147483647.0_dp - 0.5_dp, 0.0_dp, keep(i, c))
+        end do
+      end do
+      do i = 1, ng
+        f(:, i) = 0.0_dp
+        do q = row_ptr(i), row_ptr(i + 1) - 1
+          f(:, i) = f(:, i) + val(q)*v(:, col(q))
+        end do
+      end do
+      call tensor_mass_solve(tm, f, x)
+      err = max(err, maxval(abs(x - v))/max(maxval(abs(v)), tiny(1.0_dp)))
+    end do
+  end subroutine self_check
+
+  !> w <- the nodal values of component c of b%z at every lattice point that is a node
+  !! (0 elsewhere): the unit responses of the fixed points, the change of basis of `store`.
+  subroutine nodal_lattice(b, c, w)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: c
+    real(dp), intent(out) :: w(:,:)
+    integer :: i, j
+    w = 0.0_dp
+    do j = 1, b%n(2)
+      do i = 1, b%n(1)
+        if (b%node(i, j) > 0) w(i, j) = nodal_value(b, c, i, j)
+      end do
+    end do
+  end subroutine nodal_lattice
+
+  !> Node numbers of the blocks replaced by map(node) (e.g. the positions of the nodes in a
+  !! gathered vector), so that tensor_mass_solve reads and writes in that numbering.
+  subroutine tensor_mass_renumber(tm, map)
+    type(tensor_mass_t), intent(inout) :: tm
+    integer, intent(in) :: map(:)
+    integer :: ib, i, j
+    do ib = 1, tm%nblocks
+      do j = 1, tm%b(ib)%n(2)
+        do i = 1, tm%b(ib)%n(1)
+          if (tm%b(ib)%node(i, j) > 0) tm%b(ib)%node(i, j) = map(tm%b(ib)%node(i, j))
+        end do
+      end do
+    end do
+    if (size(tm%outside) > 0) tm%outside = map(tm%outside)
+  end subroutine tensor_mass_renumber
+
+  !> One line per block for the log: what it is, its lattice and its fixed lines and points.
+  function tensor_mass_describe(tm) result(s)
+    type(tensor_mass_t), intent(in) :: tm
+    character(len=:), allocatable :: s
+    integer :: ib
+    s = ''
+    do ib = 1, tm%nblocks
+      associate (b => tm%b(ib))
+        if (ib > 1) s = s//'; '
+        s = s//b%what//' ('//str(b%n(1))//' x '//str(b%n(2))//' lattice, '// &
+            merge('Kronecker  ', 'serendipity', b%kind == TENSOR_DIRECT)
+        s = trim(s)//', fixed lines '//str(count(b%c(1)%fix1) + count(b%c(1)%fix2))//' + '// &
+            str(count(b%c(2)%fix1) + count(b%c(2)%fix2))//', fixed points '// &
+            str(b%c(1)%npts)//' + '//str(b%c(2)%npts)//')'
+      end associate
+    end do
+  end function tensor_mass_describe
+
+  ! ------------------------------------------------------------------ the solve
+
+  !> x = M^-1 f on the solved dofs of every block (0 on fixed dofs and outside the blocks);
+  !! f and x are (2, ng) in the node numbering of the blocks (a flat gathered vector of
+  !! pairs will do). Allocates nothing.
+  !!
+  !! Both components go through each pass together. Passes over the lattice: Kronecker
+  !! blocks 3 (load with the forward elimination along direction 2, the direction-1 solves
+  !! of col_block columns at a time inside it; back substitution; store with the point
+  !! correction), Q8 blocks 6 (load in the hierarchical basis; forward; back with the
+  !! B x B values picked out; forward from g - E mu; back; store with the change to nodal
+  !! values and the point correction).
+  subroutine tensor_mass_solve(tm, f, x)
+    type(tensor_mass_t), intent(inout) :: tm
+    real(dp), intent(in) :: f(2, *)
+    real(dp), intent(inout) :: x(2, *)
+    integer :: ib, k
+    do k = 1, size(tm%outside)
+      x(:, tm%outside(k)) = 0.0_dp
+    end do
+    do ib = 1, tm%nblocks
+      call base_solve(tm%b(ib), 1, 2, f)
+      call store(tm%b(ib), x)
+    end do
+  end subroutine tensor_mass_solve
+
+  !> b%z(:, :, c1:c2) <- the solve of those components without the point correction, for
+  !! the nodal loads f (or a unit load at lattice point `unit`): the Kronecker inverse, or
+  !! for Q8 the capacitance solve in the hierarchical basis (module header), which leaves
+  !! hierarchical coefficients in z (`store` and `nodal_value` change them to nodal values).
+  subroutine base_solve(b, c1, c2, f, unit)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: c
+    if (b%kind == TENSOR_DIRECT) then
+      call forward(b, c1, c2, 0, f, unit)
+      call backward(b, c1, c2, .false.)
+      return
+    end if
+    ! g = (H1^T (x) H2^T) f; z = S g; mu = (G1^-1 (x) G2^-1) z_BB; z = S (g - E mu)
+    call load_hier(b, c1, c2, f, unit)
+    call forward(b, c1, c2, 1)
+    call backward(b, c1, c2, .true.)
+    do c = c1, c2
+      call schur_dim1(b%c(c)%m(1), b%c(c)%v(1), b%r(:, :, c), b%tb)
+      call schur_dim2(b%c(c)%m(2), b%c(c)%v(2), b%r(:, :, c), b%t)
+    end do
+    call forward(b, c1, c2, 2)
+    call backward(b, c1, c2, .false.)
+  end subroutine base_solve
+
+  !> Column j of the nodal loads of component c: f at the nodes, 0 at Q8 centres, on fixed
+  !! lines and at fixed points; or the unit load at the fixed point `unit`.
+  subroutine gather_column(b, c, j, col, f, unit)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: c, j
+    real(dp), intent(out) :: col(:)
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: i, k, p
+    associate (cp => b%c(c))
+      if (cp%fix2(j)) then
+        col = 0.0_dp
+        return
+      end if
+      if (present(unit)) then
+        col = 0.0_dp
+        if (unit(2) == j) col(unit(1)) = 1.0_dp
+        return
+      end if
+      if (b%kind == TENSOR_DIRECT) then
+        do i = 1, b%n(1)
+          col(i) = f(c, b%node(i, j))
+        end do
+      else
+        do i = 1, b%n(1)
+          k = b%node(i, j)
+          col(i) = 0.0_dp
+          if (k > 0) col(i) = f(c, k)
+        end do
+      end if
+      do k = 1, size(cp%rows1)
+        col(cp%rows1(k)) = 0.0_dp
+      end do
+      do p = 1, cp%npts
+        if (cp%pts(2, p) == j) col(cp%pts(1, p)) = 0.0_dp
+      end do
+    end associate
+  end subroutine gather_column
+
+  !> b%g <- (H1^T (x) H2^T) of the nodal loads (Q8): the loads on the hierarchical basis,
+  !! g(2v-1) = f(2v-1) + (f(2v-2) + f(2v))/2 at the vertices of each direction, 0 on fixed
+  !! lines. One pass: an odd column is completed once the even column after it is loaded.
+  subroutine load_hier(b, c1, c2, f, unit)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: j, i, n1, n2, c
+    n1 = b%n(1)
+    n2 = b%n(2)
+    associate (g => b%g)
+      do j = 1, n2
+        do c = c1, c2
+          call gather_column(b, c, j, g(:, j, c), f, unit)
+          g(1, j, c) = g(1, j, c) + 0.5_dp*g(2, j, c)
+          do i = 3, n1 - 2, 2
+            g(i, j, c) = g(i, j, c) + 0.5_dp*(g(i - 1, j, c) + g(i + 1, j, c))
+          end do
+          g(n1, j, c) = g(n1, j, c) + 0.5_dp*g(n1 - 1, j, c)
+          if (mod(j, 2) == 0) call finish(j - 1, c)
+        end do
+      end do
+      do c = c1, c2
+        call finish(n2, c)
+      end do
+    end associate
+  contains
+    !> The direction-2 part of odd column jj, then the fixed rows of it and of the column
+    !! after it.
+    subroutine finish(jj, c)
+      integer, intent(in) :: jj, c
+      integer :: k
+      associate (g => b%g, cp => b%c(c))
+        if (jj > 1) g(:, jj, c) = g(:, jj, c) + 0.5_dp*g(:, jj - 1, c)
+        if (jj < n2) g(:, jj, c) = g(:, jj, c) + 0.5_dp*g(:, jj + 1, c)
+        if (cp%fix2(jj)) g(:, jj, c) = 0.0_dp
+        do k = 1, size(cp%rows1)
+          g(cp%rows1(k), jj, c) = 0.0_dp
+          if (jj < n2) g(cp%rows1(k), jj + 1, c) = 0.0_dp
+        end do
+      end associate
+    end subroutine finish
+  end subroutine load_hier
+
+  !> Forward elimination of the Kronecker solve, col_block columns at a time: the columns
+  !! are set (mode 0: gathered loads; 1: from g; 2: from g - E mu), solved along direction 1
+  !! together (`lines_solve`: one recurrence whose lanes are the columns), and eliminated
+  !! along direction 2 one after the other, while the block is still in the cache.
+  subroutine forward(b, c1, c2, mode, f, unit)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2, mode
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: j0, j1, j, i, k, n2, c
+    real(dp) :: l0, l1, l2
+    n2 = b%n(2)
+    associate (z => b%z)
+      do j0 = 1, n2, col_block
+        j1 = min(j0 + col_block - 1, n2)
+        do c = c1, c2
+          do j = j0, j1
+            select case (mode)
+            case (0)
+              call gather_column(b, c, j, z(:, j, c), f, unit)
+            case (1)
+              z(:, j, c) = b%g(:, j, c)
+            case default
+              z(:, j, c) = b%g(:, j, c)
+              if (mod(j, 2) == 0) then
+                do i = 1, b%ne(1)
+                  z(2*i, j, c) = z(2*i, j, c) - b%r(i, j/2, c)
+                end do
+              end if
+            end select
+          end do
+        end do
+        do c = c1, c2
+          call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
+          associate (m2 => b%c(c)%m(2))
+            do j = j0, j1
+              l0 = m2%l(0, j)
+              if (m2%kd == 2 .and. j > 2) then
+                l1 = m2%l(1, j)
+                l2 = m2%l(2, j)
+                z(:, j, c) = ((z(:, j, c) - l2*z(:, j - 2, c)) - l1*z(:, j - 1, c))*l0
+              else
+                do k = min(m2%kd, j - 1), 1, -1
+                  z(:, j, c) = z(:, j, c) - m2%l(k, j)*z(:, j - k, c)
+                end do
+                z(:, j, c) = z(:, j, c)*l0
+              end if
+            end do
+          end associate
+        end do
+      end do
+    end associate
+  end subroutine forward
+
+  !> x(i, :) <- A^-1 applied along i (A of order m%n) to every column of x (at most
+  !! col_block) at once: one recurrence whose lanes are the columns. For half bandwidths 1
+  !! and 2 the last values stay in registers (a chain through memory would cost a
+  !! store-to-load round trip per step); wider bands take the plain loops.
+  subroutine lines_solve(m, x)
+    type(band_t), intent(in) :: m
+    real(dp), intent(inout) :: x(:,:)
+    real(dp) :: y(col_block), y1(col_block), y2(col_block)
+    integer :: n, i, k, nb
+    n = m%n
+    nb = size(x, 2)
+    if (m%kd == 2 .and. n >= 2) then
+      y2(1:nb) = x(1, :)*m%l(0, 1)
+      x(1, :) = y2(1:nb)
+      y1(1:nb) = (x(2, :) - m%l(1, 2)*y2(1:nb))*m%l(0, 2)
+      x(2, :) = y1(1:nb)
+      do i = 3, n
+        y(1:nb) = ((x(i, :) - m%l(2, i)*y2(1:nb)) - m%l(1, i)*y1(1:nb))*m%l(0, i)
+        x(i, :) = y(1:nb)
+        y2(1:nb) = y1(1:nb)
+        y1(1:nb) = y(1:nb)
+      end do
+      y2(1:nb) = x(n, :)*m%l(0, n)
+      x(n, :) = y2(1:nb)
+      y1(1:nb) = (x(n - 1, :) - m%l(1, n)*y2(1:nb))*m%l(0, n - 1)
+      x(n - 1, :) = y1(1:nb)
+      do i = n - 2, 1, -1
+        y(1:nb) = ((x(i, :) - m%l(2, i + 2)*y2(1:nb)) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
+        x(i, :) = y(1:nb)
+        y2(1:nb) = y1(1:nb)
+        y1(1:nb) = y(1:nb)
+      end do
+    else if (m%kd == 1) then
+      y1(1:nb) = x(1, :)*m%l(0, 1)
+      x(1, :) = y1(1:nb)
+      do i = 2, n
+        y1(1:nb) = (x(i, :) - m%l(1, i)*y1(1:nb))*m%l(0, i)
+        x(i, :) = y1(1:nb)
+      end do
+      y1(1:nb) = x(n, :)*m%l(0, n)
+      x(n, :) = y1(1:nb)
+      do i = n - 1, 1, -1
+        y1(1:nb) = (x(i, :) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
+        x(i, :) = y1(1:nb)
+      end do
+    else
+      do i = 1, n
+        do k = min(m%kd, i - 1), 1, -1
+          x(i, :) = x(i, :) - m%l(k, i)*x(i - k, :)
+        end do
+        x(i, :) = x(i, :)*m%l(0, i)
+      end do
+      do i = n, 1, -1
+        do k = min(m%kd, n - i), 1, -1
+          x(i, :) = x(i, :) - m%l(k, i + k)*x(i + k, :)
+        end do
+        x(i, :) = x(i, :)*m%l(0, i)
+      end do
+    end if
+  end subroutine lines_solve
+
+  !> Back substitution along direction 2; with `pick`, the B x B values go to r as their
+  !! columns complete (Q8, first solve).
+  subroutine backward(b, c1, c2, pick)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    logical, intent(in) :: pick
+    integer :: j, k, i, n2, c
+    real(dp) :: l0, l1, l2
+    n2 = b%n(2)
+    associate (z => b%z)
+      do j = n2, 1, -1
+        do c = c1, c2
+          associate (m2 => b%c(c)%m(2))
+            l0 = m2%l(0, j)
+            if (m2%kd == 2 .and. j < n2 - 1) then
+              l1 = m2%l(1, j + 1)
+              l2 = m2%l(2, j + 2)
+              z(:, j, c) = ((z(:, j, c) - l2*z(:, j + 2, c)) - l1*z(:, j + 1, c))*l0
+            else
+              do k = min(m2%kd, n2 - j), 1, -1
+                z(:, j, c) = z(:, j, c) - m2%l(k, j + k)*z(:, j + k, c)
+              end do
+              z(:, j, c) = z(:, j, c)*l0
+            end if
+          end associate
+          if (pick .and. mod(j, 2) == 0) then
+            do i = 1, b%ne(1)
+              b%r(i, j/2, c) = z(2*i, j, c)
+            end do
+          end if
+        end do
+      end do
+    end associate
+  end subroutine backward
+
+  !> x(:, node) for every node of the block: the nodal values of z (for Q8 the change from
+  !! the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each direction;
+  !! no node reads a B x B value), minus the point correction sum_p beta_p w_p with
+  !! beta = H^-1 u(pts), per component.
+  subroutine store(b, x)
+    type(tblock_t), intent(inout) :: b
+    real(dp), intent(inout) :: x(2, *)
+    integer :: i, j, p, n1, n2, c, k
+    logical :: pts
+    real(dp) :: u1, u2
+    n1 = b%n(1)
+    n2 = b%n(2)
+    do c = 1, 2
+      associate (cp => b%c(c))
+        do p = 1, cp%npts
+          cp%beta(p) = nodal_value(b, c, cp%pts(1, p), cp%pts(2, p))
+        end do
+        if (cp%npts > 0) call small_solve(cp%npts, cp%h, cp%beta)
+      end associate
+    end do
+    pts = b%c(1)%npts + b%c(2)%npts > 0
+    associate (z => b%z)
+      if (b%kind == TENSOR_DIRECT) then
+        do j = 1, n2
+          do i = 1, n1
+            k = b%node(i, j)
+            x(1, k) = z(i, j, 1)
+            x(2, k) = z(i, j, 2)
+          end do
+        end do
+      else
+        do j = 1, n2, 2
+          do i = 1, n1, 2
+            k = b%node(i, j)
+            x(1, k) = z(i, j, 1)
+            x(2, k) = z(i, j, 2)
+          end do
+          do i = 2, n1 - 1, 2
+            k = b%node(i, j)
+            x(1, k) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
+            x(2, k) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
+          end do
+        end do
+        do j = 2, n2 - 1, 2
+          do i = 1, n1, 2
+            k = b%node(i, j)
+            x(1, k) = z(i, j, 1) + 0.5_dp*(z(i, j - 1, 1) + z(i, j + 1, 1))
+            x(2, k) = z(i, j, 2) + 0.5_dp*(z(i, j - 1, 2) + z(i, j + 1, 2))
+          end do
+        end do
+      end if
+    end associate
+    if (.not. pts) return
+    ! the point corrections (cp%w is 0 at the Q8 centres)
+    do j = 1, n2
+      do i = 1, n1
+        k = b%node(i, j)
+        if (k == 0) cycle
+        u1 = x(1, k)
+        do p = 1, b%c(1)%npts
+          u1 = u1 - b%c(1)%beta(p)*b%c(1)%w(i, j, p)
+        end do
+        u2 = x(2, k)
+        do p = 1, b%c(2)%npts
+          u2 = u2 - b%c(2)%beta(p)*b%c(2)%w(i, j, p)
+        end do
+        x(1, k) = u1
+        x(2, k) = u2
+      end do
+    end do
+    do c = 1, 2
+      do p = 1, b%c(c)%npts
+        x(c, b%node(b%c(c)%pts(1, p), b%c(c)%pts(2, p))) = 0.0_dp
+      end do
+    end do
+  end subroutine store
+
+  !> The nodal value of component c of b%z at lattice point (i, j) (a node).
+  pure real(dp) function nodal_value(b, c, i, j) result(u)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: c, i, j
+    u = b%z(i, j, c)
+    if (b%kind == TENSOR_DIRECT) return
+    if (mod(i, 2) == 0) then
+      u = u + 0.5_dp*(b%z(i - 1, j, c) + b%z(i + 1, j, c))
+    else if (mod(j, 2) == 0) then
+      u = u + 0.5_dp*(b%z(i, j - 1, c) + b%z(i, j + 1, c))
+    end if
+  end function nodal_value
+
+  !> r(:, j) <- (A_BB - A_BV A_VV^-1 A_VB) r(:, j) for every column j: the inverse of
+  !! (A^-1)_BB along direction 1 (bubble e at index 2e, vertex v at 2v - 1), col_block
+  !! columns at a time, transposed into w(col_block, ne + 1) so that the tridiagonal
+  !! recurrences run as one vector.
+  subroutine schur_dim1(m, v, r, w)
+    type(band_t), intent(in) :: m, v
+    real(dp), intent(inout) :: r(:,:)
+    real(dp), intent(inout) :: w(:,:)
+    integer :: ne, j0, j1, j, e, k
+    ne = size(r, 1)
+    do j0 = 1, size(r, 2), col_block
+      j1 = min(j0 + col_block - 1, size(r, 2))
+      if (j1 - j0 + 1 < col_block) w = 0.0_dp
+      ! w = A_VB r: vertex k touches bubbles k - 1 and k
+      do j = j0, j1
+        w(j - j0 + 1, 1) = m%a(1, 2)*r(1, j)
+        do k = 2, ne
+          w(j - j0 + 1, k) = m%a(1, 2*k - 1)*r(k - 1, j) + m%a(1, 2*k)*r(k, j)
+        end do
+        w(j - j0 + 1, ne + 1) = m%a(1, 2*ne + 1)*r(ne, j)
+      end do
+      ! w = A_VV^-1 w (tridiagonal factor)
+      w(:, 1) = w(:, 1)*v%l(0, 1)
+      do k = 2, ne + 1
+        w(:, k) = (w(:, k) - v%l(1, k)*w(:, k - 1))*v%l(0, k)
+      end do
+      w(:, ne + 1) = w(:, ne + 1)*v%l(0, ne + 1)
+      do k = ne, 1, -1
+        w(:, k) = (w(:, k) - v%l(1, k + 1)*w(:, k + 1))*v%l(0, k)
+      end do
+      do j = j0, j1
+        do e = 1, ne
+          r(e, j) = m%a(0, 2*e)*r(e, j) - m%a(1, 2*e)*w(j - j0 + 1, e) - &
+              m%a(1, 2*e + 1)*w(j - j0 + 1, e + 1)
+        end do
+      end do
+    end do
+  end subroutine schur_dim1
+
+  !> The same along direction 2, for all rows at once (w holds ne(2) + 1 vertex columns).
+  subroutine schur_dim2(m, v, r, w)
+    type(band_t), intent(in) :: m, v
+    real(dp), intent(inout) :: r(:,:)
+    real(dp), intent(inout) :: w(:,:)
+    integer :: ne, e, k
+    ne = size(r, 2)
+    do k = 1, ne + 1
+      w(:, k) = 0.0_dp
+      if (k > 1) w(:, k) = w(:, k) + m%a(1, 2*k - 1)*r(:, k - 1)
+      if (k <= ne) w(:, k) = w(:, k) + m%a(1, 2*k)*r(:, k)
+    end do
+    do k = 1, ne + 1
+      if (k > 1) w(:, k) = w(:, k) - v%l(1, k)*w(:, k - 1)
+      w(:, k) = w(:, k)*v%l(0, k)
+    end do
+    do k = ne + 1, 1, -1
+      if (k <= ne) w(:, k) = w(:, k) - v%l(1, k + 1)*w(:, k + 1)
+      w(:, k) = w(:, k)*v%l(0, k)
+    end do
+    do e = 1, ne
+      r(:, e) = m%a(0, 2*e)*r(:, e) - m%a(1, 2*e)*w(:, e) - m%a(1, 2*e + 1)*w(:, e + 1)
+    end do
+  end subroutine schur_dim2
+
+  !> y <- H^-1 y with the factor of small_cholesky.
+  pure subroutine small_solve(n, h, y)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: h(n, n)
+    real(dp), intent(inout) :: y(n)
+    integer :: i, k
+    do i = 1, n
+      do k = 1, i - 1
+        y(i) = y(i) - h(i, k)*y(k)
+      end do
+      y(i) = y(i)*h(i, i)
+    end do
+    do i = n, 1, -1
+      do k = i + 1, n
+        y(i) = y(i) - h(k, i)*y(k)
+      end do
+      y(i) = y(i)*h(i, i)
+    end do
+  end subroutine small_solve
+end module ictus_solver_tensor_mass
