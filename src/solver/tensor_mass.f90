@@ -31,6 +31,7 @@
 module ictus_solver_tensor_mass
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
+  use ictus_core_memory, only: alloc_stream
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
   use ictus_solver_model, only: model_t
   implicit none
@@ -79,28 +80,32 @@ module ictus_solver_tensor_mass
   !> One component of one block: the fixed lines of each direction (fix1, fix2; rows1 lists
   !! those of direction 1), the 1D matrices with the fixed lines as identity rows
   !! (hierarchical for Q8), the factor of their vertex parts (Q8), and the isolated fixed
-  !! points with their unit responses w(:, :, k) and the Cholesky factor h of the
-  !! capacitance matrix H(l, k) = w(pts(l), k).
+  !! points with their unit responses w(:, :, k), the lattice box(1:4, k) = i1, i2, j1, j2
+  !! outside which |w(:, :, k)| < 1e-18 max |w(:, :, k)| (the inverse of a mass matrix decays
+  !! exponentially away from the load), and the Cholesky factor h of the capacitance matrix
+  !! H(l, k) = w(pts(l), k).
   type :: comp_t
     type(band_t) :: m(2)
     type(band_t) :: v(2)
     logical, allocatable :: fix1(:), fix2(:)
     integer, allocatable :: rows1(:)
     integer :: npts = 0
-    integer, allocatable :: pts(:,:)
+    integer, allocatable :: pts(:,:), box(:,:)
     real(dp), allocatable :: w(:,:,:), h(:,:), beta(:)
   end type comp_t
 
   !> One block: its kind and lattice, both components, and the work arrays of a solve: the
   !! lattice z(:, :, c) of each component (and g for Q8), the B x B values r and the Schur
-  !! work t and tb (Q8; tb holds col_block columns transposed).
+  !! work t (direction 2) and tv (direction 1) of Q8, and for its first solve a ring of the
+  !! last back-substituted columns and a block zb of bubble columns (their indices jb).
   type :: tblock_t
     integer :: kind = TENSOR_DIRECT
     integer :: n(2) = 0
     integer :: ne(2) = 0
     integer, allocatable :: node(:,:)
     type(comp_t) :: c(2)
-    real(dp), allocatable :: z(:,:,:), g(:,:,:), r(:,:,:), t(:,:), tb(:,:)
+    real(dp), allocatable :: z(:,:,:), g(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:)
+    integer, allocatable :: jb(:)
     character(len=:), allocatable :: what
   end type tblock_t
 
@@ -477,9 +482,15 @@ contains
           call serendipity_masses(l, ng, row_ptr, val, b%c(1)%m)
           b%c(2)%m = b%c(1)%m
         end if
-        allocate(b%z(n1, n2, 2), b%tb(col_block, max(n1, n2) + 1))
-        if (b%kind == TENSOR_SERENDIPITY) allocate(b%g(n1, n2, 2), &
-            b%r(b%ne(1), b%ne(2), 2), b%t(b%ne(1), b%ne(2) + 1))
+        ! the lattice arrays in huge pages (streamed every step, read by columns)
+        call alloc_stream(b%z, n1, n2, 2, 0.0_dp)
+        if (b%kind == TENSOR_SERENDIPITY) then
+          call alloc_stream(b%tv, b%ne(1) + 1, b%ne(2), 0.0_dp)
+          allocate(b%ring(n1, 4), b%zb(n1, col_block), b%jb(col_block))
+          call alloc_stream(b%g, n1, n2, 2, 0.0_dp)
+          call alloc_stream(b%r, b%ne(1), b%ne(2), 2, 0.0_dp)
+          call alloc_stream(b%t, b%ne(1), b%ne(2) + 1, 0.0_dp)
+        end if
         do c = 1, 2
           call component_setup(b, c, keep(:, c), ierr, reason)
           if (ierr /= 0) then
@@ -643,7 +654,7 @@ contains
         return
       end if
       cp%npts = np
-      allocate(cp%pts(2, np), cp%w(n1, n2, np), cp%h(np, np), cp%beta(np))
+      allocate(cp%pts(2, np), cp%box(4, np), cp%w(n1, n2, np), cp%h(np, np), cp%beta(np))
       np = 0
       do j = 1, n2
         do i = 1, n1
@@ -676,6 +687,7 @@ contains
       do k = 1, cp%npts
         call base_solve(b, c, c, unit=cp%pts(:, k))
         call nodal_lattice(b, c, cp%w(:, :, k))
+        call response_box(cp%w(:, :, k), cp%box(:, k))
       end do
       do k = 1, cp%npts
         do l = 1, cp%npts
@@ -690,6 +702,24 @@ contains
     end associate
     ierr = 0
   end subroutine component_setup
+
+  !> The smallest lattice box i1:i2 x j1:j2 outside which |w| < 1e-18 max |w|: a point's
+  !! correction beta w changes x there by less than the rounding of x, so it is applied in
+  !! the box only (the response of a point decays exponentially with the distance).
+  subroutine response_box(w, box)
+    real(dp), intent(in) :: w(:,:)
+    integer, intent(out) :: box(4)
+    real(dp) :: cut
+    integer :: i, j
+    cut = 1.0e-18_dp*maxval(abs(w))
+    box = [size(w, 1) + 1, 0, size(w, 2) + 1, 0]
+    do j = 1, size(w, 2)
+      do i = 1, size(w, 1)
+        if (abs(w(i, j)) < cut) cycle
+        box = [min(box(1), i), max(box(2), i), min(box(3), j), max(box(4), j)]
+      end do
+    end do
+  end subroutine response_box
 
   !> Rows and columns of the fixed indices become identity rows.
   subroutine fix_lines(m, fix)
@@ -903,19 +933,19 @@ contains
     integer :: c
     if (b%kind == TENSOR_DIRECT) then
       call forward(b, c1, c2, 0, f, unit)
-      call backward(b, c1, c2, .false.)
+      call backward(b, c1, c2)
       return
     end if
     ! g = (H1^T (x) H2^T) f; z = S g; mu = (G1^-1 (x) G2^-1) z_BB; z = S (g - E mu)
     call load_hier(b, c1, c2, f, unit)
     call forward(b, c1, c2, 1)
-    call backward(b, c1, c2, .true.)
+    call backward_pick(b, c1, c2)
     do c = c1, c2
-      call schur_dim1(b%c(c)%m(1), b%c(c)%v(1), b%r(:, :, c), b%tb)
+      call schur_dim1(b%c(c)%m(1), b%c(c)%v(1), b%r(:, :, c), b%tv)
       call schur_dim2(b%c(c)%m(2), b%c(c)%v(2), b%r(:, :, c), b%t)
     end do
     call forward(b, c1, c2, 2)
-    call backward(b, c1, c2, .false.)
+    call backward(b, c1, c2)
   end subroutine base_solve
 
   !> Column j of the nodal loads of component c: f at the nodes, 0 at Q8 centres, on fixed
@@ -957,6 +987,51 @@ contains
     end associate
   end subroutine gather_column
 
+  !> Columns j of the nodal loads of both components in one sweep over f (as
+  !! `gather_column`, which then zeroes the fixed dofs of each).
+  subroutine gather_pair(b, j, col1, col2, f)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: j
+    real(dp), intent(out) :: col1(:), col2(:)
+    real(dp), intent(in) :: f(2, *)
+    integer :: i, k, c, p
+    if (b%kind == TENSOR_DIRECT) then
+      do i = 1, b%n(1)
+        k = b%node(i, j)
+        col1(i) = f(1, k)
+        col2(i) = f(2, k)
+      end do
+    else
+      do i = 1, b%n(1)
+        k = b%node(i, j)
+        col1(i) = 0.0_dp
+        col2(i) = 0.0_dp
+        if (k > 0) then
+          col1(i) = f(1, k)
+          col2(i) = f(2, k)
+        end if
+      end do
+    end if
+    do c = 1, 2
+      associate (cp => b%c(c))
+        if (cp%fix2(j)) then
+          if (c == 1) col1 = 0.0_dp
+          if (c == 2) col2 = 0.0_dp
+          cycle
+        end if
+        do k = 1, size(cp%rows1)
+          if (c == 1) col1(cp%rows1(k)) = 0.0_dp
+          if (c == 2) col2(cp%rows1(k)) = 0.0_dp
+        end do
+        do p = 1, cp%npts
+          if (cp%pts(2, p) /= j) cycle
+          if (c == 1) col1(cp%pts(1, p)) = 0.0_dp
+          if (c == 2) col2(cp%pts(1, p)) = 0.0_dp
+        end do
+      end associate
+    end do
+  end subroutine gather_pair
+
   !> b%g <- (H1^T (x) H2^T) of the nodal loads (Q8): the loads on the hierarchical basis,
   !! g(2v-1) = f(2v-1) + (f(2v-2) + f(2v))/2 at the vertices of each direction, 0 on fixed
   !! lines. One pass: an odd column is completed once the even column after it is loaded.
@@ -970,8 +1045,10 @@ contains
     n2 = b%n(2)
     associate (g => b%g)
       do j = 1, n2
+        if (c1 == 1 .and. c2 == 2 .and. .not. present(unit)) &
+            call gather_pair(b, j, g(:, j, 1), g(:, j, 2), f)
         do c = c1, c2
-          call gather_column(b, c, j, g(:, j, c), f, unit)
+          if (c2 == c1 .or. present(unit)) call gather_column(b, c, j, g(:, j, c), f, unit)
           g(1, j, c) = g(1, j, c) + 0.5_dp*g(2, j, c)
           do i = 3, n1 - 2, 2
             g(i, j, c) = g(i, j, c) + 0.5_dp*(g(i - 1, j, c) + g(i + 1, j, c))
@@ -1017,11 +1094,16 @@ contains
     associate (z => b%z)
       do j0 = 1, n2, col_block
         j1 = min(j0 + col_block - 1, n2)
+        if (mode == 0 .and. c1 == 1 .and. c2 == 2 .and. .not. present(unit)) then
+          do j = j0, j1
+            call gather_pair(b, j, z(:, j, 1), z(:, j, 2), f)
+          end do
+        end if
         do c = c1, c2
           do j = j0, j1
             select case (mode)
             case (0)
-              call gather_column(b, c, j, z(:, j, c), f, unit)
+              if (c2 == c1 .or. present(unit)) call gather_column(b, c, j, z(:, j, c), f, unit)
             case (1)
               z(:, j, c) = b%g(:, j, c)
             case default
@@ -1035,7 +1117,9 @@ contains
           end do
         end do
         do c = c1, c2
-          call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
+          ! the first Q8 solve needs only the B x B values: direction 1 comes after direction
+          ! 2 there, on the bubble columns alone (`backward_pick`)
+          if (mode /= 1) call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
           associate (m2 => b%c(c)%m(2))
             do j = j0, j1
               l0 = m2%l(0, j)
@@ -1117,13 +1201,11 @@ contains
     end if
   end subroutine lines_solve
 
-  !> Back substitution along direction 2; with `pick`, the B x B values go to r as their
-  !! columns complete (Q8, first solve).
-  subroutine backward(b, c1, c2, pick)
+  !> Back substitution along direction 2.
+  subroutine backward(b, c1, c2)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
-    logical, intent(in) :: pick
-    integer :: j, k, i, n2, c
+    integer :: j, k, n2, c
     real(dp) :: l0, l1, l2
     n2 = b%n(2)
     associate (z => b%z)
@@ -1142,15 +1224,78 @@ contains
               z(:, j, c) = z(:, j, c)*l0
             end if
           end associate
-          if (pick .and. mod(j, 2) == 0) then
-            do i = 1, b%ne(1)
-              b%r(i, j/2, c) = z(2*i, j, c)
-            end do
-          end if
         end do
       end do
     end associate
   end subroutine backward
+
+  !> Column j of the back substitution along direction 2 into y: z(:, j) less the
+  !! contributions of the columns after it, read from the ring buffer of the last kd
+  !! results (column j' in slot mod(j', kd + 1) + 1; y is the slot of j, which no other
+  !! slot overlaps).
+  subroutine back_column(m2, z, j, y, ring)
+    type(band_t), intent(in) :: m2
+    real(dp), intent(in) :: z(:,:)
+    integer, intent(in) :: j
+    real(dp), intent(inout) :: y(:)
+    real(dp), intent(in) :: ring(:,:)
+    integer :: k, n2, s1, s2
+    real(dp) :: l0, l1, l2
+    n2 = m2%n
+    l0 = m2%l(0, j)
+    if (m2%kd == 2 .and. j < n2 - 1) then
+      l1 = m2%l(1, j + 1)
+      l2 = m2%l(2, j + 2)
+      s1 = mod(j + 1, 3) + 1
+      s2 = mod(j + 2, 3) + 1
+      y = ((z(:, j) - l2*ring(:, s2)) - l1*ring(:, s1))*l0
+    else
+      y = z(:, j)
+      do k = min(m2%kd, n2 - j), 1, -1
+        y = y - m2%l(k, j + k)*ring(:, mod(j + k, m2%kd + 1) + 1)
+      end do
+      y = y*l0
+    end if
+  end subroutine back_column
+
+  !> The back substitution of the first Q8 solve, which only needs its B x B values: the
+  !! columns go through a ring buffer (z is not written), and each bubble column is copied
+  !! to zb; every col_block of them are solved along direction 1 together and their bubble
+  !! rows go to r.
+  subroutine backward_pick(b, c1, c2)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    integer :: j, c, nb, kd
+    do c = c1, c2
+      kd = b%c(c)%m(2)%kd
+      nb = 0
+      do j = b%n(2), 1, -1
+        associate (slot => b%ring(:, mod(j, kd + 1) + 1))
+          call back_column(b%c(c)%m(2), b%z(:, :, c), j, slot, b%ring(:, 1:kd + 1))
+          if (mod(j, 2) == 0) then
+            nb = nb + 1
+            b%zb(:, nb) = slot
+            b%jb(nb) = j
+            if (nb == col_block .or. j == 2) then
+              call pick(nb)
+              nb = 0
+            end if
+          end if
+        end associate
+      end do
+    end do
+  contains
+    subroutine pick(nb)
+      integer, intent(in) :: nb
+      integer :: q, i
+      call lines_solve(b%c(c)%m(1), b%zb(:, 1:nb))
+      do q = 1, nb
+        do i = 1, b%ne(1)
+          b%r(i, b%jb(q)/2, c) = b%zb(2*i, q)
+        end do
+      end do
+    end subroutine pick
+  end subroutine backward_pick
 
   !> x(:, node) for every node of the block: the nodal values of z (for Q8 the change from
   !! the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each direction;
@@ -1160,8 +1305,6 @@ contains
     type(tblock_t), intent(inout) :: b
     real(dp), intent(inout) :: x(2, *)
     integer :: i, j, p, n1, n2, c, k
-    logical :: pts
-    real(dp) :: u1, u2
     n1 = b%n(1)
     n2 = b%n(2)
     do c = 1, 2
@@ -1172,7 +1315,6 @@ contains
         if (cp%npts > 0) call small_solve(cp%npts, cp%h, cp%beta)
       end associate
     end do
-    pts = b%c(1)%npts + b%c(2)%npts > 0
     associate (z => b%z)
       if (b%kind == TENSOR_DIRECT) then
         do j = 1, n2
@@ -1183,6 +1325,7 @@ contains
           end do
         end do
       else
+        ! odd columns, each followed by the even one after it (row-by-row node numbers)
         do j = 1, n2, 2
           do i = 1, n1, 2
             k = b%node(i, j)
@@ -1194,38 +1337,30 @@ contains
             x(1, k) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
             x(2, k) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
           end do
-        end do
-        do j = 2, n2 - 1, 2
+          if (j == n2) exit
           do i = 1, n1, 2
-            k = b%node(i, j)
-            x(1, k) = z(i, j, 1) + 0.5_dp*(z(i, j - 1, 1) + z(i, j + 1, 1))
-            x(2, k) = z(i, j, 2) + 0.5_dp*(z(i, j - 1, 2) + z(i, j + 1, 2))
+            k = b%node(i, j + 1)
+            x(1, k) = z(i, j + 1, 1) + 0.5_dp*(z(i, j, 1) + z(i, j + 2, 1))
+            x(2, k) = z(i, j + 1, 2) + 0.5_dp*(z(i, j, 2) + z(i, j + 2, 2))
           end do
         end do
       end if
     end associate
-    if (.not. pts) return
-    ! the point corrections (cp%w is 0 at the Q8 centres)
-    do j = 1, n2
-      do i = 1, n1
-        k = b%node(i, j)
-        if (k == 0) cycle
-        u1 = x(1, k)
-        do p = 1, b%c(1)%npts
-          u1 = u1 - b%c(1)%beta(p)*b%c(1)%w(i, j, p)
-        end do
-        u2 = x(2, k)
-        do p = 1, b%c(2)%npts
-          u2 = u2 - b%c(2)%beta(p)*b%c(2)%w(i, j, p)
-        end do
-        x(1, k) = u1
-        x(2, k) = u2
-      end do
-    end do
+    ! the point corrections, in the boxes of their responses (cp%w is 0 at Q8 centres)
     do c = 1, 2
-      do p = 1, b%c(c)%npts
-        x(c, b%node(b%c(c)%pts(1, p), b%c(c)%pts(2, p))) = 0.0_dp
-      end do
+      associate (cp => b%c(c))
+        do p = 1, cp%npts
+          do j = cp%box(3, p), cp%box(4, p)
+            do i = cp%box(1, p), cp%box(2, p)
+              k = b%node(i, j)
+              if (k > 0) x(c, k) = x(c, k) - cp%beta(p)*cp%w(i, j, p)
+            end do
+          end do
+        end do
+        do p = 1, cp%npts
+          x(c, b%node(cp%pts(1, p), cp%pts(2, p))) = 0.0_dp
+        end do
+      end associate
     end do
   end subroutine store
 
@@ -1243,9 +1378,9 @@ contains
   end function nodal_value
 
   !> r(:, j) <- (A_BB - A_BV A_VV^-1 A_VB) r(:, j) for every column j: the inverse of
-  !! (A^-1)_BB along direction 1 (bubble e at index 2e, vertex v at 2v - 1), col_block
-  !! columns at a time, transposed into w(col_block, ne + 1) so that the tridiagonal
-  !! recurrences run as one vector.
+  !! (A^-1)_BB along direction 1 (bubble e at index 2e, vertex v at 2v - 1). w(ne + 1, :)
+  !! takes A_VB r column by column, the tridiagonal solves run col_block columns at a time
+  !! (`lines_solve`), and r is updated column by column.
   subroutine schur_dim1(m, v, r, w)
     type(band_t), intent(in) :: m, v
     real(dp), intent(inout) :: r(:,:)
@@ -1254,28 +1389,18 @@ contains
     ne = size(r, 1)
     do j0 = 1, size(r, 2), col_block
       j1 = min(j0 + col_block - 1, size(r, 2))
-      if (j1 - j0 + 1 < col_block) w = 0.0_dp
       ! w = A_VB r: vertex k touches bubbles k - 1 and k
       do j = j0, j1
-        w(j - j0 + 1, 1) = m%a(1, 2)*r(1, j)
+        w(1, j) = m%a(1, 2)*r(1, j)
         do k = 2, ne
-          w(j - j0 + 1, k) = m%a(1, 2*k - 1)*r(k - 1, j) + m%a(1, 2*k)*r(k, j)
+          w(k, j) = m%a(1, 2*k - 1)*r(k - 1, j) + m%a(1, 2*k)*r(k, j)
         end do
-        w(j - j0 + 1, ne + 1) = m%a(1, 2*ne + 1)*r(ne, j)
+        w(ne + 1, j) = m%a(1, 2*ne + 1)*r(ne, j)
       end do
-      ! w = A_VV^-1 w (tridiagonal factor)
-      w(:, 1) = w(:, 1)*v%l(0, 1)
-      do k = 2, ne + 1
-        w(:, k) = (w(:, k) - v%l(1, k)*w(:, k - 1))*v%l(0, k)
-      end do
-      w(:, ne + 1) = w(:, ne + 1)*v%l(0, ne + 1)
-      do k = ne, 1, -1
-        w(:, k) = (w(:, k) - v%l(1, k + 1)*w(:, k + 1))*v%l(0, k)
-      end do
+      call lines_solve(v, w(:, j0:j1))
       do j = j0, j1
         do e = 1, ne
-          r(e, j) = m%a(0, 2*e)*r(e, j) - m%a(1, 2*e)*w(j - j0 + 1, e) - &
-              m%a(1, 2*e + 1)*w(j - j0 + 1, e + 1)
+          r(e, j) = m%a(0, 2*e)*r(e, j) - m%a(1, 2*e)*w(e, j) - m%a(1, 2*e + 1)*w(e + 1, j)
         end do
       end do
     end do
