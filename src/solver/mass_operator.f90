@@ -320,11 +320,7 @@ contains
         pos(gid(q)) = q
       end do
       call tensor_mass_renumber(op%tm, pos)
-      op%counts = 2*cnt
-      op%displs = [0, (sum(op%counts(1:q)), q = 1, np - 1)]
-      op%offset = op%displs(dom%rank + 1)/2
-      call alloc_stream(op%x, 2, ng, 0.0_dp)
-      allocate(op%fsend(2*op%nn), op%fall(2*ng))
+      call gather_setup(op, dom, cnt)
     end if
     op%solver = MASS_SOLVER_KRONECKER
     call log_info('consistent mass: solved along lattice directions (MASS SOLVER=KRONECKER) '// &
@@ -416,10 +412,8 @@ contains
     do i = 1, nn
       op%opiv(i) = op%chol%inv(dom%halo%gid(i))
     end do
-    op%counts = 2*cnt
-    op%displs = [0, (sum(op%counts(1:q)), q = 1, np - 1)]
-    call alloc_stream(op%x, 2, ng, 0.0_dp)
-    allocate(op%fsend(2*nn), op%fall(2*ng), op%xl(op%chol%max_rows, 2))
+    call gather_setup(op, dom, cnt)
+    allocate(op%xl(op%chol%max_rows, 2))
     stored = size(op%chol%val, kind=i8)
     if (allocated(op%chol%tail2)) stored = stored + size(op%chol%tail2, kind=i8)
     call log_info('consistent mass: Cholesky factor of '//str(ng)//' rows in '// &
@@ -428,6 +422,34 @@ contains
         str(real(stored, dp)*8.0e-6_dp, 4)//' MB stored on every rank, '// &
         str(op%chol%flops*op%fac(2), 3)//' flops, '//str(wall_time() - t0, 3)//' s')
   end subroutine cholesky_init
+
+  !> The buffers of the solves on gathered loads (Cholesky, Kronecker): the sizes of every
+  !! rank's part (2 x its owned nodes cnt) and their offsets, this rank's offset in nodes, the
+  !! send buffer, the gathered f and the solution x (2, nglobal).
+  subroutine gather_setup(op, dom, cnt)
+    type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: cnt(:)
+    integer :: q
+    op%counts = 2*cnt
+    op%displs = [0, (sum(op%counts(1:q)), q = 1, size(cnt) - 1)]
+    op%offset = op%displs(dom%rank + 1)/2
+    call alloc_stream(op%x, 2, op%nglobal, 0.0_dp)
+    allocate(op%fsend(2*op%nn), op%fall(2*op%nglobal))
+  end subroutine gather_setup
+
+  !> op%fall <- f on the free dofs of every rank's owned nodes, in rank order (allocates
+  !! nothing).
+  subroutine gather_loads(op, f)
+    type(mass_op_t), intent(inout) :: op
+    real(dp), intent(in) :: f(:,:)
+    integer :: i
+    do i = 1, op%nn
+      op%fsend(2*i - 1) = f(1, i)*op%free(1, i)
+      op%fsend(2*i) = f(2, i)*op%free(2, i)
+    end do
+    call allgatherv_real(op%fsend, op%counts, op%fall, op%displs)
+  end subroutine gather_loads
 
   !> The smallest entry of the owned rows (1..nn) of a scalar CSR matrix, over all ranks.
   function mass_min_entry(m, nn) result(vmin)
@@ -503,22 +525,14 @@ contains
         call tensor_mass_solve(op%tm, f, a)
         return
       end if
-      do i = 1, nn
-        op%fsend(2*i - 1) = f(1, i)*op%free(1, i)
-        op%fsend(2*i) = f(2, i)*op%free(2, i)
-      end do
-      call allgatherv_real(op%fsend, op%counts, op%fall, op%displs)
+      call gather_loads(op, f)
       call tensor_mass_solve(op%tm, op%fall, op%x)
       a(:, 1:nn) = op%x(:, op%offset + 1:op%offset + nn)
       return
     end if
     if (op%solver == MASS_SOLVER_CHOLESKY) then
       ! f on the free dofs of every rank's nodes to every rank, solve, take the owned rows
-      do i = 1, nn
-        op%fsend(2*i - 1) = f(1, i)*op%free(1, i)
-        op%fsend(2*i) = f(2, i)*op%free(2, i)
-      end do
-      call allgatherv_real(op%fsend, op%counts, op%fall, op%displs)
+      call gather_loads(op, f)
       do q = 1, op%nglobal
         op%x(1, op%gpiv(q)) = op%fall(2*q - 1)
         op%x(2, op%gpiv(q)) = op%fall(2*q)

@@ -168,7 +168,7 @@ contains
     type(model_t), intent(in) :: model
     integer, intent(in) :: et
     type(tensor_layout_t), intent(inout) :: lay
-    integer, allocatable :: parent(:), root_of_el(:), group(:), el_order(:), first(:)
+    integer, allocatable :: parent(:), group_of_el(:), group(:), el_order(:), first(:), next(:)
     integer :: e, a, r, s, ngroups, k, g
     type(lattice_t), allocatable :: tmp(:)
     character(len=:), allocatable :: why
@@ -187,7 +187,8 @@ contains
         r = min(r, s)
       end do
     end do
-    allocate(root_of_el(model%nel), group(model%nn), source=0)
+    ! the group of each element: its root's number in order of first appearance
+    allocate(group_of_el(model%nel), group(model%nn), source=0)
     ngroups = 0
     do e = 1, model%nel
       r = find_root(parent, model%conn(1, e))
@@ -195,23 +196,23 @@ contains
         ngroups = ngroups + 1
         group(r) = ngroups
       end if
-      root_of_el(e) = group(r)
+      group_of_el(e) = group(r)
     end do
     ! elements of each group, in element order
     allocate(first(ngroups + 1), source=0)
     do e = 1, model%nel
-      first(root_of_el(e) + 1) = first(root_of_el(e) + 1) + 1
+      first(group_of_el(e) + 1) = first(group_of_el(e) + 1) + 1
     end do
     first(1) = 1
     do g = 1, ngroups
       first(g + 1) = first(g) + first(g + 1)
     end do
     allocate(el_order(model%nel))
-    group(1:ngroups) = first(1:ngroups)
+    next = first(1:ngroups)
     do e = 1, model%nel
-      k = root_of_el(e)
-      el_order(group(k)) = e
-      group(k) = group(k) + 1
+      k = group_of_el(e)
+      el_order(next(k)) = e
+      next(k) = next(k) + 1
     end do
     allocate(tmp(ngroups))
     do g = 1, ngroups
@@ -922,7 +923,8 @@ contains
   end subroutine tensor_mass_solve
 
   !> b%z(:, :, c1:c2) <- the solve of those components without the point correction, for
-  !! the nodal loads f (or a unit load at lattice point `unit`): the Kronecker inverse, or
+  !! the nodal loads f (both components: c1 = 1, c2 = 2) or for a unit load at lattice point
+  !! `unit`: the Kronecker inverse, or
   !! for Q8 the capacitance solve in the hierarchical basis (module header), which leaves
   !! hierarchical coefficients in z (`store` and `nodal_value` change them to nodal values).
   subroutine base_solve(b, c1, c2, f, unit)
@@ -948,53 +950,22 @@ contains
     call backward(b, c1, c2)
   end subroutine base_solve
 
-  !> Column j of the nodal loads of component c: f at the nodes, 0 at Q8 centres, on fixed
-  !! lines and at fixed points; or the unit load at the fixed point `unit`.
-  subroutine gather_column(b, c, j, col, f, unit)
-    type(tblock_t), intent(in) :: b
-    integer, intent(in) :: c, j
+  !> Column j of a unit load at lattice point `unit` (the responses of the fixed points).
+  pure subroutine unit_column(j, col, unit)
+    integer, intent(in) :: j, unit(2)
     real(dp), intent(out) :: col(:)
-    real(dp), intent(in), optional :: f(2, *)
-    integer, intent(in), optional :: unit(2)
-    integer :: i, k, p
-    associate (cp => b%c(c))
-      if (cp%fix2(j)) then
-        col = 0.0_dp
-        return
-      end if
-      if (present(unit)) then
-        col = 0.0_dp
-        if (unit(2) == j) col(unit(1)) = 1.0_dp
-        return
-      end if
-      if (b%kind == TENSOR_DIRECT) then
-        do i = 1, b%n(1)
-          col(i) = f(c, b%node(i, j))
-        end do
-      else
-        do i = 1, b%n(1)
-          k = b%node(i, j)
-          col(i) = 0.0_dp
-          if (k > 0) col(i) = f(c, k)
-        end do
-      end if
-      do k = 1, size(cp%rows1)
-        col(cp%rows1(k)) = 0.0_dp
-      end do
-      do p = 1, cp%npts
-        if (cp%pts(2, p) == j) col(cp%pts(1, p)) = 0.0_dp
-      end do
-    end associate
-  end subroutine gather_column
+    col = 0.0_dp
+    if (unit(2) == j) col(unit(1)) = 1.0_dp
+  end subroutine unit_column
 
-  !> Columns j of the nodal loads of both components in one sweep over f (as
-  !! `gather_column`, which then zeroes the fixed dofs of each).
+  !> Columns j of the nodal loads of both components in one sweep over f: f at the nodes,
+  !! 0 at Q8 centres, on fixed lines and at fixed points.
   subroutine gather_pair(b, j, col1, col2, f)
     type(tblock_t), intent(in) :: b
     integer, intent(in) :: j
     real(dp), intent(out) :: col1(:), col2(:)
     real(dp), intent(in) :: f(2, *)
-    integer :: i, k, c, p
+    integer :: i, k
     if (b%kind == TENSOR_DIRECT) then
       do i = 1, b%n(1)
         k = b%node(i, j)
@@ -1012,25 +983,27 @@ contains
         end if
       end do
     end if
-    do c = 1, 2
-      associate (cp => b%c(c))
-        if (cp%fix2(j)) then
-          if (c == 1) col1 = 0.0_dp
-          if (c == 2) col2 = 0.0_dp
-          cycle
-        end if
-        do k = 1, size(cp%rows1)
-          if (c == 1) col1(cp%rows1(k)) = 0.0_dp
-          if (c == 2) col2(cp%rows1(k)) = 0.0_dp
-        end do
-        do p = 1, cp%npts
-          if (cp%pts(2, p) /= j) cycle
-          if (c == 1) col1(cp%pts(1, p)) = 0.0_dp
-          if (c == 2) col2(cp%pts(1, p)) = 0.0_dp
-        end do
-      end associate
-    end do
+    call zero_fixed(b%c(1), j, col1)
+    call zero_fixed(b%c(2), j, col2)
   end subroutine gather_pair
+
+  !> The fixed dofs of column j of one component's loads set to 0.
+  pure subroutine zero_fixed(cp, j, col)
+    type(comp_t), intent(in) :: cp
+    integer, intent(in) :: j
+    real(dp), intent(inout) :: col(:)
+    integer :: k, p
+    if (cp%fix2(j)) then
+      col = 0.0_dp
+      return
+    end if
+    do k = 1, size(cp%rows1)
+      col(cp%rows1(k)) = 0.0_dp
+    end do
+    do p = 1, cp%npts
+      if (cp%pts(2, p) == j) col(cp%pts(1, p)) = 0.0_dp
+    end do
+  end subroutine zero_fixed
 
   !> b%g <- (H1^T (x) H2^T) of the nodal loads (Q8): the loads on the hierarchical basis,
   !! g(2v-1) = f(2v-1) + (f(2v-2) + f(2v))/2 at the vertices of each direction, 0 on fixed
@@ -1045,10 +1018,9 @@ contains
     n2 = b%n(2)
     associate (g => b%g)
       do j = 1, n2
-        if (c1 == 1 .and. c2 == 2 .and. .not. present(unit)) &
-            call gather_pair(b, j, g(:, j, 1), g(:, j, 2), f)
+        if (.not. present(unit)) call gather_pair(b, j, g(:, j, 1), g(:, j, 2), f)
         do c = c1, c2
-          if (c2 == c1 .or. present(unit)) call gather_column(b, c, j, g(:, j, c), f, unit)
+          if (present(unit)) call unit_column(j, g(:, j, c), unit)
           g(1, j, c) = g(1, j, c) + 0.5_dp*g(2, j, c)
           do i = 3, n1 - 2, 2
             g(i, j, c) = g(i, j, c) + 0.5_dp*(g(i - 1, j, c) + g(i + 1, j, c))
@@ -1094,7 +1066,7 @@ contains
     associate (z => b%z)
       do j0 = 1, n2, col_block
         j1 = min(j0 + col_block - 1, n2)
-        if (mode == 0 .and. c1 == 1 .and. c2 == 2 .and. .not. present(unit)) then
+        if (mode == 0 .and. .not. present(unit)) then
           do j = j0, j1
             call gather_pair(b, j, z(:, j, 1), z(:, j, 2), f)
           end do
@@ -1103,7 +1075,7 @@ contains
           do j = j0, j1
             select case (mode)
             case (0)
-              if (c2 == c1 .or. present(unit)) call gather_column(b, c, j, z(:, j, c), f, unit)
+              if (present(unit)) call unit_column(j, z(:, j, c), unit)
             case (1)
               z(:, j, c) = b%g(:, j, c)
             case default
