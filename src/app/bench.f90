@@ -5,14 +5,20 @@
 !! Builds the model, the operators and the contact exactly as `ictus` does, then times, each
 !! over N repetitions (default 50): the stiffness product alone; the whole step on the run's
 !! path (fused lumped step, or predictor with the consistent-mass solve, plus contact and the
-!! displacement update with the halo exchange); and, separately, its phases (stiffness product,
-!! mass solve, contact search and forces, vector updates). It also measures this machine's
-!! memory bandwidth with a STREAM triad in the same run. The whole set of timings is taken R
-!! times (default 3) and each figure is the median of its R values (the machine is shared).
+!! displacement update with the halo exchange; for a lumped mass, sweeps of several steps over
+!! K where the run would keep them: with SWEEP STEPS=AUTO the bench first lets the state time
+!! sweeps against single steps as a run does); the same one step at a time and, where sweeps
+!! are planned, always in sweeps; and, separately, its phases (stiffness product, mass solve,
+!! contact search and forces, vector updates). It also measures this machine's memory
+!! bandwidth with a STREAM triad after each set of timings. The whole set is taken R times
+!! (default 3) and each figure, the triad's too, is the median of its R values (the machine is
+!! shared).
 !! Output: one line of key=value pairs starting with BENCH (read by scripts/benchmark.py);
 !! times are seconds per step, mass_iter the mean conjugate-gradient iterations per
 !! consistent-mass solve (0 for a lumped mass), mass_solver the consistent-mass solver taken
-!! (MASS_SOLVER_*: 2 Cholesky, 4 Kronecker, ...; 0 for a lumped mass), dt the step used. The time step is the deck's
+!! (MASS_SOLVER_*: 2 Cholesky, 4 Kronecker, ...; 0 for a lumped mass), sweep the steps per
+!! pass over K on the run's path (1: single steps), sweep_plan the steps of a planned sweep
+!! (1: none), t_sweep the step in sweeps (0 without a plan), dt the step used. The time step is the deck's
 !! dt, or for dt = 0 the automatic one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
@@ -32,7 +38,7 @@ program ictus_bench
   use ictus_solver_sparse, only: bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      state_plan_sweep, step_sweep
+      state_plan_sweep, step_sweep, step_window
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
   use ictus_contact_contact, only: contact_t
@@ -53,10 +59,11 @@ program ictus_bench
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0
-  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, dt, stream_bw, bytes_kmv, &
-      mass_iter
+  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, dt, stream_bw, &
+      bytes_kmv, mass_iter
   logical, allocatable :: sync(:)
-  real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:)
+  real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:), &
+      sa(:), sb(:), sc(:), stream(:)
   real(dp) :: omega
   integer :: iters
   !> Amplitude of the rough start velocity.
@@ -134,11 +141,17 @@ program ictus_bench
   call state_plan_sweep(s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, model%sweep_steps)
   ! whole sweeps only: the step count is rounded up to a multiple of the sweep
   if (s%sweeps) nsteps = s%sweep%nstage*((nsteps + s%sweep%nstage - 1)/s%sweep%nstage)
-  allocate(times(6, nrep))
+  ! SWEEP STEPS=AUTO: sweeps against single steps, as at the start of a run (untimed here)
+  do while (s%tuning)
+    call step_window(s, ops%k, mop, dom, between)
+  end do
+  call stream_alloc(stream_mb)
+  allocate(times(7, nrep), stream(nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
     call time_phases(times(:, r))
+    stream(r) = stream_triad()
   end do
   mass_iter = 0.0_dp
   if (mop%n_solves > ns0) mass_iter = real(mop%total_iter - it0, dp)/real(mop%n_solves - ns0, dp)
@@ -148,6 +161,8 @@ program ictus_bench
   t_contact = median(times(4, :))
   t_update = median(times(5, :))
   t_single = median(times(6, :))
+  t_sweep = median(times(7, :))
+  stream_bw = median(stream)
   ! bytes the stiffness product must move once: blocks (4 reals + a column index), row
   ! pointers, u read, f written
   nnzb = size(ops%k%g%col, kind=i8)
@@ -161,24 +176,25 @@ program ictus_bench
       ncp = ncp + contact%pairs(i)%npoints
     end do
   end if
-  stream_bw = stream_triad(stream_mb)
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),a,i0,a,i0)') &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),a,es11.5,a,i0)') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
       ' mass_iter=', mass_iter, ' dt=', dt, ' t_single=', t_single, ' sweep=', &
-      merge(s%sweep%nstage, 1, s%sweeps), ' mass_solver=', merge(mop%solver, 0, ops%consistent)
+      merge(s%sweep%nstage, 1, s%sweeps .and. s%kept), ' sweep_plan=', &
+      merge(s%sweep%nstage, 1, s%sweeps), ' t_sweep=', t_sweep, &
+      ' mass_solver=', merge(mop%solver, 0, ops%consistent)
   call env_finalize()
 
 contains
 
   !> One set of timings, seconds per step (the slowest rank's): stiffness product, whole
   !! step on the run's path (sweeps where planned), mass solve, contact correction, separate
-  !! vector updates, whole step one step at a time.
+  !! vector updates, whole step one step at a time, whole step in sweeps (where planned).
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(6)
+    real(dp), intent(out) :: t(7)
     real(dp) :: t0
     integer :: k
     ! 1. the stiffness product alone
@@ -191,10 +207,8 @@ contains
     ! 2. the whole step on the run's path (no output)
     call barrier()
     t0 = wall_time()
-    if (s%sweeps) then
-      do k = 1, nsteps/s%sweep%nstage
-        call step_sweep(s, ops%k, mop, dom, between)
-      end do
+    if (s%sweeps .and. s%kept) then
+      call sweeps()
     else
       call single_steps()
     end if
@@ -204,6 +218,14 @@ contains
     t0 = wall_time()
     call single_steps()
     t(6) = wall_time() - t0
+    ! 2c. the same in sweeps, whether the run keeps them or not
+    t(7) = 0.0_dp
+    if (s%sweeps) then
+      call barrier()
+      t0 = wall_time()
+      call sweeps()
+      t(7) = wall_time() - t0
+    end if
     ! 3. phases: mass solve, contact, vector updates (the unfused passes); they run on a
     ! saved state, restored afterwards, so the runs of the whole step stay a real motion
     u_save = s%u
@@ -240,11 +262,19 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 6
+    do k = 1, 7
       call allreduce_max(t(k))
     end do
     t = t/nsteps
   end subroutine time_phases
+
+  !> nsteps steps in sweeps of s%sweep%nstage (a multiple of it), no output.
+  subroutine sweeps()
+    integer :: k
+    do k = 1, nsteps/s%sweep%nstage
+      call step_sweep(s, ops%k, mop, dom, between)
+    end do
+  end subroutine sweeps
 
   !> nsteps steps one at a time (step_predict, contact, step_finish), no output.
   subroutine single_steps()
@@ -273,33 +303,38 @@ contains
   end function median
 
 
-  !> STREAM triad a = b + q c on three arrays of mb/3 MB each, best of 10, in bytes per second
-  !! (24 bytes per element, the STREAM convention). All ranks run it at once.
-  function stream_triad(mb) result(bw)
+  !> The arrays of the STREAM triad: three of mb/3 MB each, with the same huge-page advice as
+  !! the solver's arrays (ictus_core_memory), so that the reference stream is not handicapped
+  !! by 4 KiB pages.
+  subroutine stream_alloc(mb)
     integer, intent(in) :: mb
+    integer :: m
+    m = max(1, mb*1024*1024/(3*8))
+    call alloc_stream(sa, m, 0.0_dp)
+    call alloc_stream(sb, m, 1.0_dp)
+    call alloc_stream(sc, m, 2.0_dp)
+  end subroutine stream_alloc
+
+  !> STREAM triad a = b + q c on the arrays of stream_alloc, best of 10, in bytes per second
+  !! (24 bytes per element, the STREAM convention). All ranks run it at once.
+  function stream_triad() result(bw)
     real(dp) :: bw
-    real(dp), allocatable :: a(:), b(:), c(:)
     real(dp) :: t, best, q
-    integer :: n, k, r
-    n = max(1, mb*1024*1024/(3*8))
-    ! the same huge-page advice as the solver's arrays (ictus_core_memory), so that the
-    ! reference stream is not handicapped by 4 KiB pages
-    call alloc_stream(a, n, 0.0_dp)
-    call alloc_stream(b, n, 1.0_dp)
-    call alloc_stream(c, n, 2.0_dp)
+    integer :: m, k, r
+    m = size(sa)
     q = 3.0_dp
     best = huge(1.0_dp)
     do r = 1, 10
       call barrier()
       t = wall_time()
-      do k = 1, n
-        a(k) = b(k) + q*c(k)
+      do k = 1, m
+        sa(k) = sb(k) + q*sc(k)
       end do
       t = wall_time() - t
       call allreduce_max(t)
       best = min(best, t)
-      q = q + a(n/2)*1.0e-30_dp
+      q = q + sa(m/2)*1.0e-30_dp
     end do
-    bw = 24.0_dp*real(n, dp)*real(env_size(), dp)/best
+    bw = 24.0_dp*real(m, dp)*real(env_size(), dp)/best
   end function stream_triad
 end program ictus_bench

@@ -24,7 +24,7 @@ module ictus_app_driver
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      state_plan_sweep, step_sweep
+      state_plan_sweep, step_window
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct, &
       contact_ratio, contact_bipenalty_init
   use ictus_contact_contact, only: contact_t, contact_failures
@@ -318,7 +318,7 @@ contains
     integer :: nsteps, n, field_every, print_every
     integer, allocatable :: gid(:), drop(:)
     logical, allocatable :: was_active(:)
-    logical :: record, field, ok, stop_now
+    logical :: record, field, ok, stop_now, tuning
     type(checkpoint_t) :: ck
     character(len=:), allocatable :: ckpt, deck_text, msg
     integer :: n_start, n_first, n_last
@@ -381,9 +381,13 @@ contains
       end do
     end if
     call state_plan_sweep(s, ops%k, mop, dom, model%x0(:, gid), sync, model%sweep_steps)
-    if (s%sweeps) call log_info('sweeps: '//str(s%sweep%nstage)//' steps per sweep over K '// &
-        'between outputs ('//str(s%sweep%strip)//' strips; '//str(s%sweep%zone_rows(1))// &
-        ' rows of '//str(dom%nowned)//' stepped one step at a time)')
+    if (s%sweeps) then
+      msg = ''
+      if (s%tuning) msg = '; timed against single steps first'
+      call log_info('sweeps: '//str(s%sweep%nstage)//' steps per sweep over K between '// &
+          'outputs ('//str(s%sweep%strip)//' strips; '//str(s%sweep%zone_rows(1))// &
+          ' rows of '//str(dom%nowned)//' stepped one step at a time)'//msg)
+    end if
     t0 = wall_time()
     t_last_print = t0
     n = n_start
@@ -392,7 +396,15 @@ contains
       if (sweep_fits(n)) then
         ! steps n .. n_last in one sweep; the contact correction of each comes between
         n_last = n + s%sweep%nstage - 1
-        call step_sweep(s, ops%k, mop, dom, contact_between)
+        tuning = s%tuning
+        call step_window(s, ops%k, mop, dom, contact_between)
+        if (tuning .and. .not. s%tuning) then
+          msg = 'dropped: single steps are faster'
+          if (s%kept) msg = 'kept: faster than single steps'
+          call log_info('sweeps: '//msg//' here (best window of '//str(s%sweep%nstage)// &
+              ' steps: '//str(1.0e3_dp*s%tune_time(1), 3)//' ms in one sweep, '// &
+              str(1.0e3_dp*s%tune_time(2), 3)//' ms one step at a time)')
+        end if
       else
         n_last = n
         record = mod(n, model%history_every) == 0 .or. n == nsteps
@@ -492,7 +504,7 @@ contains
       integer, intent(in) :: n
       integer :: j
       sweep_fits = .false.
-      if (.not. s%sweeps) return
+      if (.not. (s%sweeps .and. s%kept)) return
       if (n + s%sweep%nstage > nsteps) return
       do j = n, n + s%sweep%nstage - 1
         if (mod(j, model%history_every) == 0 .or. mod(j, field_every) == 0) return

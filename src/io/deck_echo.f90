@@ -306,7 +306,8 @@ contains
     type(text_t), intent(inout) :: t
     character(len=:), allocatable :: sweep
     if (.not. d%has_step) return
-    sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
+    sweep = ', SWEEP STEPS=AUTO'
+    if (d%step%sweep_steps > 0) sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
     call put(t, '*STEP')
     select case (d%step%mass_solver)
     case ('CG')

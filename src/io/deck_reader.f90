@@ -1348,10 +1348,11 @@ contains
   end subroutine read_step
 
   !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG|CORRECTOR] [, MASS TOL=tol]
-  !! [, MASS PASSES=k] [, SWEEP STEPS=s]: one data line "dt, t_end". MASS TOL is the tolerance
-  !! of the conjugate gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the corrector's
-  !! passes, so it needs MASS SOLVER=CORRECTOR. SWEEP STEPS is the number of lumped-mass steps
-  !! per sweep over the stiffness (ictus_solver_sweep).
+  !! [, MASS PASSES=k] [, SWEEP STEPS=s|AUTO]: one data line "dt, t_end". MASS TOL is the
+  !! tolerance of the conjugate gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the
+  !! corrector's passes, so it needs MASS SOLVER=CORRECTOR. SWEEP STEPS is the number of
+  !! lumped-mass steps per sweep over the stiffness (ictus_solver_sweep); AUTO (0) lets the
+  !! run time 6-step sweeps against single steps and keep the faster.
   subroutine read_dynamic(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -1362,6 +1363,7 @@ contains
     real(dp) :: v(2), s(1)
     integer :: i, k, np(1)
     logical :: tol_given, passes_given
+    character(len=:), allocatable :: text
 
     call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
@@ -1392,12 +1394,16 @@ contains
         d%step%mass_passes = np(1)
       end if
     end if
-    if (get_ints(c, 'SWEEP STEPS', 1, 'an integer in [1, 8]', np)) then
-      if (np(1) < 1 .or. np(1) > 8) then
-        call card_error(c, 'SWEEP STEPS='//str(np(1))//' outside [1, 8] (lumped-mass '// &
-            'steps per sweep over the stiffness; 1 = one step per sweep)')
-      else
-        d%step%sweep_steps = np(1)
+    if (get_param(c, 'SWEEP STEPS', text)) then
+      if (upper(collapse_blanks(text)) == 'AUTO') then
+        d%step%sweep_steps = 0
+      else if (get_ints(c, 'SWEEP STEPS', 1, 'AUTO or an integer in [1, 8]', np)) then
+        if (np(1) < 1 .or. np(1) > 8) then
+          call card_error(c, 'SWEEP STEPS='//str(np(1))//' outside [1, 8] (lumped-mass '// &
+              'steps per sweep over the stiffness; 1 = one step per sweep; or AUTO)')
+        else
+          d%step%sweep_steps = np(1)
+        end if
       end if
     end if
     call get_choice(c, 'MASS SOLVER', 'AUTO|KRONECKER|CHOLESKY|CG|CORRECTOR', k)

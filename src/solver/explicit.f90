@@ -21,6 +21,8 @@ module ictus_solver_explicit
   use ictus_core_memory, only: alloc_stream
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
+  use ictus_parallel_env, only: allreduce_max
+  use ictus_core_timer, only: wall_time
   use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
   use ictus_solver_domain, only: domain_t
@@ -28,11 +30,17 @@ module ictus_solver_explicit
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, state_plan_sweep, &
-      step_sweep, between_steps
+      step_sweep, step_window, between_steps, SWEEP_TUNE_ROUNDS, SWEEP_AUTO_STEPS
 
   !> Bytes of K the rows of a sweep may hold between a row's first and last stage: what stays
   !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7).
   integer, parameter :: SWEEP_CACHE_BYTES = 786432
+
+  !> Windows of each kind timed before a run settles on sweeps or single steps (SWEEP
+  !! STEPS=AUTO): the best of this many is compared.
+  integer, parameter :: SWEEP_TUNE_ROUNDS = 3
+  !> Steps per sweep with SWEEP STEPS=AUTO (the best on both hosts measured, §3.7).
+  integer, parameter :: SWEEP_AUTO_STEPS = 6
 
   abstract interface
     !> Work between the predictor and the displacement update of a step inside a sweep (the
@@ -74,6 +82,14 @@ module ictus_solver_explicit
     !> The plan of `step_sweep` (sweep%nstage steps per sweep), when sweeps are possible.
     type(sweep_t) :: sweep
     logical :: sweeps = .false.
+    !> Whether windows of sweep%nstage steps without output run as one sweep (`kept`) or as
+    !! single steps. With SWEEP STEPS=AUTO (`tuning`), the first 2 SWEEP_TUNE_ROUNDS windows
+    !! alternate between the two, timed (`tune_time`: best seconds of a window, sweep and
+    !! single, the slowest rank's), and the faster is kept. Both give the same bits.
+    logical :: kept = .true.
+    logical :: tuning = .false.
+    integer :: tune_count = 0
+    real(dp) :: tune_time(2) = huge(1.0_dp)
   end type state_t
 
 contains
@@ -182,8 +198,10 @@ contains
   end subroutine step_finish
 
   !> Plans sweeps of nstage steps for an undamped lumped-mass state (otherwise, or for
-  !! nstage < 2, s%sweeps stays false). x(2, nowned): coordinates of the owned nodes (the
-  !! strips follow them); sync(nowned): nodes touched between steps (contact nodes).
+  !! nstage = 1, s%sweeps stays false). nstage = 0 (SWEEP STEPS=AUTO) plans SWEEP_AUTO_STEPS
+  !! and lets step_window time the sweeps against single steps before it keeps one of them.
+  !! x(2, nowned): coordinates of the owned nodes (the strips follow them); sync(nowned):
+  !! nodes touched between steps (contact nodes).
   subroutine state_plan_sweep(s, k, mop, dom, x, sync, nstage)
     type(state_t), intent(inout) :: s
     type(bsr_t), intent(in) :: k
@@ -194,18 +212,23 @@ contains
     integer, intent(in) :: nstage
     logical, allocatable :: touched(:)
     real(dp) :: row_bytes
-    integer :: window, i
-    s%sweeps = nstage > 1 .and. .not. (mop%consistent .or. s%damped) .and. s%nn > 0
+    integer :: window, i, ns
+    ns = merge(SWEEP_AUTO_STEPS, nstage, nstage == 0)
+    s%sweeps = ns > 1 .and. .not. (mop%consistent .or. s%damped) .and. s%nn > 0
+    s%kept = s%sweeps
+    s%tuning = s%sweeps .and. nstage == 0
+    s%tune_count = 0
+    s%tune_time = huge(1.0_dp)
     if (.not. s%sweeps) return
     ! about SWEEP_CACHE_BYTES of K between a row's stage 1 and its last stage
     row_bytes = 36.0_dp*real(size(k%g%col), dp)/real(s%nn, dp)
-    window = max(32, int(real(SWEEP_CACHE_BYTES, dp)/(real(nstage - 1, dp)*row_bytes)))
+    window = max(32, int(real(SWEEP_CACHE_BYTES, dp)/(real(ns - 1, dp)*row_bytes)))
     ! the nodes the halo exchange sends take part between steps too
     touched = sync(1:s%nn)
     do i = 1, size(dom%halo%send_idx)
       touched(dom%halo%send_idx(i)) = .true.
     end do
-    call sweep_plan(s%sweep, k%g, nstage, window, x, touched)
+    call sweep_plan(s%sweep, k%g, ns, window, x, touched)
   end subroutine state_plan_sweep
 
   !> s%sweep%nstage undamped lumped-mass steps without output in one sweep over K: for each
@@ -242,6 +265,45 @@ contains
           s%u, s%v)
     end if
   end subroutine step_sweep
+
+  !> s%sweep%nstage undamped lumped-mass steps without output (needs s%sweeps): one sweep,
+  !! or single steps (step_predict, `between`, step_finish) when the tuning chose them. While
+  !! s%tuning, the windows alternate between single steps and a sweep, each timed; after
+  !! SWEEP_TUNE_ROUNDS of each, the best times (the slowest rank's, so every rank decides the
+  !! same) decide s%kept. Only the speed depends on the choice: the bits are the same.
+  subroutine step_window(s, k, mop, dom, between)
+    type(state_t), intent(inout) :: s
+    type(bsr_t), intent(in) :: k
+    type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
+    procedure(between_steps) :: between
+    real(dp) :: t0, t
+    integer :: mode, j
+    if (.not. s%tuning) then
+      mode = merge(1, 2, s%kept)
+    else
+      ! single steps first: the first window also pays for touching the vectors again
+      mode = 2 - mod(s%tune_count, 2)
+    end if
+    t0 = wall_time()
+    if (mode == 1) then
+      call step_sweep(s, k, mop, dom, between)
+    else
+      do j = 1, s%sweep%nstage
+        call step_predict(s, k, mop, dom, .false.)
+        call between()
+        call step_finish(s, dom)
+      end do
+    end if
+    if (.not. s%tuning) return
+    t = wall_time() - t0
+    call allreduce_max(t)
+    s%tune_time(mode) = min(s%tune_time(mode), t)
+    s%tune_count = s%tune_count + 1
+    if (s%tune_count < 2*SWEEP_TUNE_ROUNDS) return
+    s%tuning = .false.
+    s%kept = s%tune_time(1) <= s%tune_time(2)
+  end subroutine step_window
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,
   !! recorded for time t_n. Needs s%f = -K u_n and s%v_mid set by the current step.

@@ -85,8 +85,9 @@ module ictus_solver_model
     integer :: mass_solver = MASS_SOLVER_AUTO
     real(dp) :: mass_tol = 1.0e-12_dp
     integer :: mass_passes = 2
-    !> Undamped lumped-mass steps without output per sweep over K (ictus_solver_sweep).
-    integer :: sweep_steps = 6
+    !> Undamped lumped-mass steps without output per sweep over K (ictus_solver_sweep);
+    !! 0 = AUTO: SWEEP_AUTO_STEPS, timed against single steps at the start of the run.
+    integer :: sweep_steps = 0
     integer :: history_every = 1
     integer :: field_every = 0
     !> Checkpoint every n steps (0: only when stopped at a wall-time limit).

@@ -15,7 +15,9 @@ through the contact zone (checked from /model/partition). The cases named *_swee
 every 25 and 10 steps, so that the lumped-mass steps in between run as sweeps of several steps
 over K (ictus_solver_sweep: zones around the partition boundaries and the contact nodes step
 singly): they must give the same bits on any number of ranks, and the same bits as the run
-with SWEEP STEPS=1 (one step per pass over K).
+with SWEEP STEPS=1 (one step per pass over K) and as the runs on 1 and 2 ranks with the
+default SWEEP STEPS=AUTO, whose first windows alternate between sweeps and single steps
+before the faster is kept (the log must say which).
 """
 import os
 import sys
@@ -29,7 +31,7 @@ sys.path.insert(0, os.path.join(vcheck.ROOT, "scripts", "mesh"))
 import hertz  # noqa: E402
 
 STEP = "*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, FIELD, EVERY=20\n*END STEP\n"
-SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, HISTORY, EVERY=25\n"
+SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT, SWEEP STEPS=6\n0, 0.5\n*OUTPUT, HISTORY, EVERY=25\n"
               "*OUTPUT, FIELD, EVERY=40\n*END STEP\n")
 
 
@@ -92,7 +94,8 @@ def main():
              "q4_rowsum_sweep": fe_deck("Q4", "*MASS, TYPE=ROW SUM", step=SWEEP_STEP),
              "hertz_iga_hrz_sweep": hertz.deck(hertz.options(
                  kind="iga", mass="HRZ", subdivide=8, t_end=0.3, field_every=200),
-                 "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n")}
+                 "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n").replace(
+                 "*DYNAMIC, EXPLICIT", "*DYNAMIC, EXPLICIT, SWEEP STEPS=6")}
     for tag, text in cases.items():
         path = os.path.join(args.work, tag + ".inp")
         with open(path, "w") as f:
@@ -113,11 +116,22 @@ def main():
         if tag.endswith("_sweep"):
             single = os.path.join(args.work, tag + "_single.inp")
             with open(single, "w") as f:
-                f.write(text.replace("*DYNAMIC, EXPLICIT", "*DYNAMIC, EXPLICIT, SWEEP STEPS=1"))
+                f.write(text.replace("SWEEP STEPS=6", "SWEEP STEPS=1"))
             out = os.path.join(args.work, f"{tag}_single.h5")
             _, log = vcheck.run_ictus(args, single, out, np=1)
             chk.true("sweeps:" not in log, f"{tag}: SWEEP STEPS=1 runs one step per pass")
             compare(chk, tag + " vs SWEEP STEPS=1", vcheck.Results(out), results[1], 1)
+            auto = os.path.join(args.work, tag + "_auto.inp")
+            with open(auto, "w") as f:
+                f.write(text.replace(", SWEEP STEPS=6", ""))
+            for n in (1, 2):
+                out = os.path.join(args.work, f"{tag}_auto_np{n}.h5")
+                _, log = vcheck.run_ictus(args, auto, out, np=n)
+                chk.true("timed against single steps first" in log and
+                         ("sweeps: kept" in log or "sweeps: dropped" in log),
+                         f"{tag}: SWEEP STEPS=AUTO on np = {n} times sweeps against single "
+                         "steps and keeps one")
+                compare(chk, f"{tag} with SWEEP STEPS=AUTO", results[1], vcheck.Results(out), n)
         if tag.startswith("hertz"):
             x = results[4].model("coordinates")
             owner = results[4].model("partition")
