@@ -18,7 +18,9 @@
 !! consistent-mass solve (0 for a lumped mass), mass_solver the consistent-mass solver taken
 !! (MASS_SOLVER_*: 2 Cholesky, 4 Kronecker, ...; 0 for a lumped mass), sweep the steps per
 !! pass over K on the run's path (1: single steps), sweep_plan the steps of a planned sweep
-!! (1: none), t_sweep the step in sweeps (0 without a plan), dt the step used. The time step is the deck's
+!! (1: none), t_sweep the step in sweeps (0 without a plan), tune_sweep and tune_single the
+!! step in the best window of each kind that SWEEP STEPS=AUTO timed (0 when it did not), dt
+!! the step used. The time step is the deck's
 !! dt, or for dt = 0 the automatic one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
@@ -62,6 +64,7 @@ program ictus_bench
   real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, dt, stream_bw, &
       bytes_kmv, mass_iter
   logical, allocatable :: sync(:)
+  logical :: tuned
   real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:), &
       sa(:), sb(:), sc(:), stream(:)
   real(dp) :: omega
@@ -142,6 +145,7 @@ program ictus_bench
   ! whole sweeps only: the step count is rounded up to a multiple of the sweep
   if (s%sweeps) nsteps = s%sweep%nstage*((nsteps + s%sweep%nstage - 1)/s%sweep%nstage)
   ! SWEEP STEPS=AUTO: sweeps against single steps, as at the start of a run (untimed here)
+  tuned = s%tuning
   do while (s%tuning)
     call step_window(s, ops%k, mop, dom, between)
   end do
@@ -177,14 +181,16 @@ program ictus_bench
     end do
   end if
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),a,es11.5,a,i0)') &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),a,i0)') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
       ' mass_iter=', mass_iter, ' dt=', dt, ' t_single=', t_single, ' sweep=', &
       merge(s%sweep%nstage, 1, s%sweeps .and. s%kept), ' sweep_plan=', &
-      merge(s%sweep%nstage, 1, s%sweeps), ' t_sweep=', t_sweep, &
+      merge(s%sweep%nstage, 1, s%sweeps), ' t_sweep=', t_sweep, ' tune_sweep=', &
+      merge(s%tune_time(1)/max(1, s%sweep%nstage), 0.0_dp, tuned), ' tune_single=', &
+      merge(s%tune_time(2)/max(1, s%sweep%nstage), 0.0_dp, tuned), &
       ' mass_solver=', merge(mop%solver, 0, ops%consistent)
   call env_finalize()
 

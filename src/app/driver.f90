@@ -401,9 +401,9 @@ contains
         if (tuning .and. .not. s%tuning) then
           msg = 'dropped: single steps are faster'
           if (s%kept) msg = 'kept: faster than single steps'
-          call log_info('sweeps: '//msg//' here (best window of '//str(s%sweep%nstage)// &
-              ' steps: '//str(1.0e3_dp*s%tune_time(1), 3)//' ms in one sweep, '// &
-              str(1.0e3_dp*s%tune_time(2), 3)//' ms one step at a time)')
+          call log_info('sweeps: '//msg//' here (a window of '//str(s%sweep%nstage)// &
+              ' steps in the best trial of each: '//str(1.0e3_dp*s%tune_time(1), 3)// &
+              ' ms in one sweep, '//str(1.0e3_dp*s%tune_time(2), 3)//' ms one step at a time)')
         end if
       else
         n_last = n

@@ -36,9 +36,12 @@ module ictus_solver_explicit
   !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7).
   integer, parameter :: SWEEP_CACHE_BYTES = 786432
 
-  !> Windows of each kind timed before a run settles on sweeps or single steps (SWEEP
-  !! STEPS=AUTO): the best of this many is compared.
-  integer, parameter :: SWEEP_TUNE_ROUNDS = 3
+  !> Trials of each kind before a run settles on sweeps or single steps (SWEEP STEPS=AUTO),
+  !! and windows per trial: the first window of a trial warms up, the others are timed, and
+  !! the best trial of each kind is compared. (Single windows between the other kind's
+  !! mislead: on a mesh whose K sits in the L3 cache they showed sweeps as fast as single
+  !! steps, which were 1.5 x faster run after run.)
+  integer, parameter :: SWEEP_TUNE_ROUNDS = 3, SWEEP_TUNE_WINDOWS = 4
   !> Steps per sweep with SWEEP STEPS=AUTO (the best on both hosts measured, §3.7).
   integer, parameter :: SWEEP_AUTO_STEPS = 6
 
@@ -83,12 +86,14 @@ module ictus_solver_explicit
     type(sweep_t) :: sweep
     logical :: sweeps = .false.
     !> Whether windows of sweep%nstage steps without output run as one sweep (`kept`) or as
-    !! single steps. With SWEEP STEPS=AUTO (`tuning`), the first 2 SWEEP_TUNE_ROUNDS windows
-    !! alternate between the two, timed (`tune_time`: best seconds of a window, sweep and
-    !! single, the slowest rank's), and the faster is kept. Both give the same bits.
+    !! single steps. With SWEEP STEPS=AUTO (`tuning`), the first windows run as trials of
+    !! SWEEP_TUNE_WINDOWS windows each, alternating between the two kinds, timed
+    !! (`tune_acc`; `tune_time`: best seconds per window of a trial, sweep and single, the
+    !! slowest rank's), and the faster is kept. Both give the same bits.
     logical :: kept = .true.
     logical :: tuning = .false.
     integer :: tune_count = 0
+    real(dp) :: tune_acc = 0.0_dp
     real(dp) :: tune_time(2) = huge(1.0_dp)
   end type state_t
 
@@ -218,6 +223,7 @@ contains
     s%kept = s%sweeps
     s%tuning = s%sweeps .and. nstage == 0
     s%tune_count = 0
+    s%tune_acc = 0.0_dp
     s%tune_time = huge(1.0_dp)
     if (.not. s%sweeps) return
     ! about SWEEP_CACHE_BYTES of K between a row's stage 1 and its last stage
@@ -268,9 +274,10 @@ contains
 
   !> s%sweep%nstage undamped lumped-mass steps without output (needs s%sweeps): one sweep,
   !! or single steps (step_predict, `between`, step_finish) when the tuning chose them. While
-  !! s%tuning, the windows alternate between single steps and a sweep, each timed; after
-  !! SWEEP_TUNE_ROUNDS of each, the best times (the slowest rank's, so every rank decides the
-  !! same) decide s%kept. Only the speed depends on the choice: the bits are the same.
+  !! s%tuning, the windows go in trials of SWEEP_TUNE_WINDOWS, alternating between single
+  !! steps and sweeps; after SWEEP_TUNE_ROUNDS trials of each, the best trials (the slowest
+  !! rank's times, so every rank decides the same) decide s%kept. Only the speed depends on
+  !! the choice: the bits are the same.
   subroutine step_window(s, k, mop, dom, between)
     type(state_t), intent(inout) :: s
     type(bsr_t), intent(in) :: k
@@ -278,12 +285,14 @@ contains
     type(domain_t), intent(inout) :: dom
     procedure(between_steps) :: between
     real(dp) :: t0, t
-    integer :: mode, j
+    integer :: mode, j, w
+    w = 0
     if (.not. s%tuning) then
       mode = merge(1, 2, s%kept)
     else
-      ! single steps first: the first window also pays for touching the vectors again
-      mode = 2 - mod(s%tune_count, 2)
+      ! trials of single steps first; w = window in the trial (0: warm-up, not timed)
+      mode = 2 - mod(s%tune_count/SWEEP_TUNE_WINDOWS, 2)
+      w = mod(s%tune_count, SWEEP_TUNE_WINDOWS)
     end if
     t0 = wall_time()
     if (mode == 1) then
@@ -296,11 +305,15 @@ contains
       end do
     end if
     if (.not. s%tuning) return
-    t = wall_time() - t0
+    if (w > 0) s%tune_acc = s%tune_acc + (wall_time() - t0)
+    s%tune_count = s%tune_count + 1
+    if (w < SWEEP_TUNE_WINDOWS - 1) return
+    ! the end of a trial
+    t = s%tune_acc/(SWEEP_TUNE_WINDOWS - 1)
     call allreduce_max(t)
     s%tune_time(mode) = min(s%tune_time(mode), t)
-    s%tune_count = s%tune_count + 1
-    if (s%tune_count < 2*SWEEP_TUNE_ROUNDS) return
+    s%tune_acc = 0.0_dp
+    if (s%tune_count < 2*SWEEP_TUNE_ROUNDS*SWEEP_TUNE_WINDOWS) return
     s%tuning = .false.
     s%kept = s%tune_time(1) <= s%tune_time(2)
   end subroutine step_window

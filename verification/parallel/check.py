@@ -31,7 +31,7 @@ sys.path.insert(0, os.path.join(vcheck.ROOT, "scripts", "mesh"))
 import hertz  # noqa: E402
 
 STEP = "*STEP\n*DYNAMIC, EXPLICIT\n0, 0.05\n*OUTPUT, FIELD, EVERY=20\n*END STEP\n"
-SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT, SWEEP STEPS=6\n0, 0.5\n*OUTPUT, HISTORY, EVERY=25\n"
+SWEEP_STEP = ("*STEP\n*DYNAMIC, EXPLICIT, SWEEP STEPS=6\n0, 1.5\n*OUTPUT, HISTORY, EVERY=25\n"
               "*OUTPUT, FIELD, EVERY=40\n*END STEP\n")
 
 
