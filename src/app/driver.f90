@@ -20,8 +20,9 @@ module ictus_app_driver
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
   use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
   use ictus_solver_domain, only: domain_t, domain_init
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, MASS_SOLVER_CG, &
-      MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, &
+      mass_steps_fused, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+      MASS_SOLVER_KRONECKER
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
       state_plan_sweep, step_window
@@ -246,7 +247,10 @@ contains
       select case (mop%solver)
       case (MASS_SOLVER_KRONECKER)
         call log_info('mass matrix: consistent (solved every step by 1D factors along the '// &
-            'lattice directions, MASS SOLVER=KRONECKER)')
+            'lattice directions, MASS SOLVER=KRONECKER'//trim(merge( &
+            '; steps without output update v and u inside the solve', &
+            '                                                      ', &
+            mass_steps_fused(mop)))//')')
       case (MASS_SOLVER_CG)
         call log_info('mass matrix: consistent (conjugate-gradient solve every step, '// &
             'MASS SOLVER=CG)')

@@ -208,8 +208,10 @@ contains
       else
         s%v(:, 1:s%nn) = s%v(:, 1:s%nn) + s%dt*cs%ac(:, 1:s%nn)
       end if
+      ! a consistent correction moves every node: u_{n+1} of a fused predictor again
+      if (s%fused) s%u_next(:, 1:s%nn) = s%u(:, 1:s%nn) + s%dt*s%v(:, 1:s%nn)
     end if
-    if (s%fused) then
+    if (s%fused .and. .not. mop%consistent) then
       ! the fused predictor already computed u_{n+1} with the uncorrected velocity: redo it
       ! on the contact nodes (the only ones whose velocity changed)
       do k = 1, cs%ncn

@@ -14,6 +14,11 @@
 !! the mass-weighted mean of the element coefficients around the node.
 !! Vectors hold this rank's owned nodes followed by its ghosts; updates run over owned nodes
 !! and `step_finish` refreshes the ghost displacements. The step allocates nothing.
+!! Without output or damping the predictor takes a fused path that also computes
+!! u_pre = u_n + dt v_pre (s%u_next, swapped in by `step_finish`): for a lumped mass one pass
+!! over K (`fused_lumped_step`), for a consistent mass solved along the lattice directions on
+!! one rank the updates inside the solve's last pass (`mass_step`); both with the bits of the
+!! unfused step.
 !! `step_sweep` runs several undamped lumped-mass steps without output in one sweep over K
 !! (ictus_solver_sweep), with the same bits as the same number of single steps.
 module ictus_solver_explicit
@@ -24,7 +29,8 @@ module ictus_solver_explicit
   use ictus_parallel_env, only: allreduce_max
   use ictus_core_timer, only: wall_time
   use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
-  use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply
+  use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, mass_step, &
+      mass_steps_fused
   use ictus_solver_domain, only: domain_t
   use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows
   implicit none
@@ -148,13 +154,21 @@ contains
     real(dp) :: dt, h, pw
     nn = s%nn
     dt = s%dt
-    s%fused = .not. (record .or. mop%consistent .or. s%damped)
-    if (s%fused) then
+    s%fused = .not. (record .or. s%damped)
+    if (s%fused .and. .not. mop%consistent) then
       ! the common step in one pass over memory (same operations in the same order as below)
       call fused_lumped_step(nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, s%v, &
           s%u_next)
       return
     end if
+    if (s%fused .and. mass_steps_fused(mop)) then
+      ! consistent mass on one rank: the updates of v and u_{n+1} inside the solve's last
+      ! pass (same operations as below; s%f holds +K u_n, s%a is not computed)
+      call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
+      call mass_step(mop, s%f, dt, s%u, s%v, s%u_next)
+      return
+    end if
+    s%fused = .false.
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
     call mass_solve(mop, dom, s%f, s%a, s%ierr)

@@ -46,10 +46,11 @@ module ictus_solver_mass_operator
   use ictus_solver_model, only: MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_mass_t, tensor_mass_setup, &
-      tensor_mass_solve, tensor_mass_renumber, tensor_mass_describe
+      tensor_mass_solve, tensor_mass_step, tensor_mass_renumber, tensor_mass_describe
   implicit none
   private
-  public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, &
+  public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, mass_step, &
+      mass_steps_fused, &
       mass_min_entry, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
 
@@ -620,6 +621,28 @@ contains
     op%total_iter = op%total_iter + op%last_iter
     if (rnorm2 > op%rtol**2*fnorm2) ierr = 1
   end subroutine mass_solve
+
+  !> Whether `mass_step` can fold the velocity and displacement updates of a step into the
+  !! solve: a consistent mass solved along the lattice directions on one rank (on several
+  !! the solve runs on the gathered loads, and the step takes mass_solve and its updates).
+  pure logical function mass_steps_fused(op)
+    type(mass_op_t), intent(in) :: op
+    mass_steps_fused = op%consistent .and. op%solver == MASS_SOLVER_KRONECKER .and. &
+        .not. allocated(op%fall)
+  end function mass_steps_fused
+
+  !> The undamped step's updates with the solve folded in (needs mass_steps_fused): with
+  !! kf = K u on the owned nodes, v <- v - dt M^-1 kf and u_next <- u + dt v, the same bits
+  !! as mass_solve of -kf followed by v = v + dt a and u_next = u + dt v, without the passes
+  !! over the acceleration (which is not stored).
+  subroutine mass_step(op, kf, dt, u, v, u_next)
+    type(mass_op_t), intent(inout) :: op
+    real(dp), intent(in) :: kf(:,:), dt, u(:,:)
+    real(dp), intent(inout) :: v(:,:), u_next(:,:)
+    op%n_solves = op%n_solves + 1
+    op%last_iter = 0
+    call tensor_mass_step(op%tm, kf, dt, u, v, u_next)
+  end subroutine mass_step
 
   !> One corrector pass on the n owned rows: y = x + d (f - M x), x with current ghosts and
   !! d = 1/row sum on free dofs (0 on fixed ones, where x and y stay 0).

@@ -37,8 +37,8 @@ module ictus_solver_tensor_mass
   implicit none
   private
   public :: tensor_layout_t, tensor_mass_t, tensor_layout, tensor_mass_setup, &
-      tensor_mass_solve, tensor_mass_renumber, tensor_mass_describe, TENSOR_DIRECT, &
-      TENSOR_SERENDIPITY
+      tensor_mass_solve, tensor_mass_step, tensor_mass_renumber, tensor_mass_describe, &
+      TENSOR_DIRECT, TENSOR_SERENDIPITY
 
   !> Block kinds: a Kronecker-product mass, or the Q8 mass inside the Q9 one.
   integer, parameter :: TENSOR_DIRECT = 1, TENSOR_SERENDIPITY = 2
@@ -106,6 +106,8 @@ module ictus_solver_tensor_mass
     type(comp_t) :: c(2)
     real(dp), allocatable :: z(:,:,:), g(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:)
     integer, allocatable :: jb(:)
+    !> One column of nodal values on its way out of `store` (2, n(1)).
+    real(dp), allocatable :: xc(:,:)
     character(len=:), allocatable :: what
   end type tblock_t
 
@@ -485,6 +487,7 @@ contains
         end if
         ! the lattice arrays in huge pages (streamed every step, read by columns)
         call alloc_stream(b%z, n1, n2, 2, 0.0_dp)
+        allocate(b%xc(2, n1), source=0.0_dp)
         if (b%kind == TENSOR_SERENDIPITY) then
           call alloc_stream(b%tv, b%ne(1) + 1, b%ne(2), 0.0_dp)
           allocate(b%ring(n1, 4), b%zb(n1, col_block), b%jb(col_block))
@@ -922,6 +925,26 @@ contains
     end do
   end subroutine tensor_mass_solve
 
+  !> The velocity and displacement updates of a step with the solve folded in: with
+  !! kf = K u (2, *), v <- v - dt M^-1 kf and u_next <- u + dt v on every node, the same
+  !! bits as a = tensor_mass_solve(-kf), v = v + dt a, u_next = u + dt v (the solve is
+  !! linear and rounding is symmetric in the sign). Saves the passes over a. Allocates
+  !! nothing.
+  subroutine tensor_mass_step(tm, kf, dt, u, v, u_next)
+    type(tensor_mass_t), intent(inout) :: tm
+    real(dp), intent(in) :: kf(2, *), dt, u(2, *)
+    real(dp), intent(inout) :: v(2, *), u_next(2, *)
+    integer :: ib, k, l
+    do k = 1, size(tm%outside)
+      l = tm%outside(k)
+      u_next(:, l) = u(:, l) + dt*v(:, l)
+    end do
+    do ib = 1, tm%nblocks
+      call base_solve(tm%b(ib), 1, 2, kf)
+      call store(tm%b(ib), dt=dt, u=u, v=v, u_next=u_next)
+    end do
+  end subroutine tensor_mass_step
+
   !> b%z(:, :, c1:c2) <- the solve of those components without the point correction, for
   !! the nodal loads f (both components: c1 = 1, c2 = 2) or for a unit load at lattice point
   !! `unit`: the Kronecker inverse, or
@@ -1272,10 +1295,16 @@ contains
   !> x(:, node) for every node of the block: the nodal values of z (for Q8 the change from
   !! the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each direction;
   !! no node reads a B x B value), minus the point correction sum_p beta_p w_p with
-  !! beta = H^-1 u(pts), per component.
-  subroutine store(b, x)
+  !! beta = H^-1 u(pts), per component. With `dt` (and u, v, u_next) x is not stored but
+  !! taken as the solve for -f and folded into the step: v <- v - dt x, u_next <- u + dt v,
+  !! node by node (the same operations, so the same bits, as a = x(-f), v = v + dt a,
+  !! u_next = u + dt v). One column at a time through b%xc, in the order of the node numbers
+  !! (for Q8 each odd column followed by the even one after it).
+  subroutine store(b, x, dt, u, v, u_next)
     type(tblock_t), intent(inout) :: b
-    real(dp), intent(inout) :: x(2, *)
+    real(dp), intent(inout), optional :: x(2, *)
+    real(dp), intent(in), optional :: dt, u(2, *)
+    real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
     integer :: i, j, p, n1, n2, c, k
     n1 = b%n(1)
     n2 = b%n(2)
@@ -1287,52 +1316,60 @@ contains
         if (cp%npts > 0) call small_solve(cp%npts, cp%h, cp%beta)
       end associate
     end do
-    associate (z => b%z)
-      if (b%kind == TENSOR_DIRECT) then
-        do j = 1, n2
+    do j = 1, n2
+      associate (z => b%z, xc => b%xc)
+        if (b%kind == TENSOR_DIRECT) then
           do i = 1, n1
-            k = b%node(i, j)
-            x(1, k) = z(i, j, 1)
-            x(2, k) = z(i, j, 2)
+            xc(1, i) = z(i, j, 1)
+            xc(2, i) = z(i, j, 2)
           end do
-        end do
-      else
-        ! odd columns, each followed by the even one after it (row-by-row node numbers)
-        do j = 1, n2, 2
+        else if (mod(j, 2) == 1) then
           do i = 1, n1, 2
-            k = b%node(i, j)
-            x(1, k) = z(i, j, 1)
-            x(2, k) = z(i, j, 2)
+            xc(1, i) = z(i, j, 1)
+            xc(2, i) = z(i, j, 2)
           end do
           do i = 2, n1 - 1, 2
-            k = b%node(i, j)
-            x(1, k) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
-            x(2, k) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
+            xc(1, i) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
+            xc(2, i) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
           end do
-          if (j == n2) exit
+        else
           do i = 1, n1, 2
-            k = b%node(i, j + 1)
-            x(1, k) = z(i, j + 1, 1) + 0.5_dp*(z(i, j, 1) + z(i, j + 2, 1))
-            x(2, k) = z(i, j + 1, 2) + 0.5_dp*(z(i, j, 2) + z(i, j + 2, 2))
+            xc(1, i) = z(i, j, 1) + 0.5_dp*(z(i, j - 1, 1) + z(i, j + 1, 1))
+            xc(2, i) = z(i, j, 2) + 0.5_dp*(z(i, j - 1, 2) + z(i, j + 1, 2))
           end do
-        end do
-      end if
-    end associate
-    ! the point corrections, in the boxes of their responses (cp%w is 0 at Q8 centres)
-    do c = 1, 2
-      associate (cp => b%c(c))
-        do p = 1, cp%npts
-          do j = cp%box(3, p), cp%box(4, p)
+        end if
+      end associate
+      ! the point corrections, in the boxes of their responses (cp%w is 0 at Q8 centres)
+      do c = 1, 2
+        associate (cp => b%c(c))
+          do p = 1, cp%npts
+            if (j < cp%box(3, p) .or. j > cp%box(4, p)) cycle
             do i = cp%box(1, p), cp%box(2, p)
-              k = b%node(i, j)
-              if (k > 0) x(c, k) = x(c, k) - cp%beta(p)*cp%w(i, j, p)
+              b%xc(c, i) = b%xc(c, i) - cp%beta(p)*cp%w(i, j, p)
             end do
           end do
+          do p = 1, cp%npts
+            if (cp%pts(2, p) == j) b%xc(c, cp%pts(1, p)) = 0.0_dp
+          end do
+        end associate
+      end do
+      if (present(dt)) then
+        do i = 1, n1
+          k = b%node(i, j)
+          if (k == 0) cycle
+          v(1, k) = v(1, k) - dt*b%xc(1, i)
+          v(2, k) = v(2, k) - dt*b%xc(2, i)
+          u_next(1, k) = u(1, k) + dt*v(1, k)
+          u_next(2, k) = u(2, k) + dt*v(2, k)
         end do
-        do p = 1, cp%npts
-          x(c, b%node(cp%pts(1, p), cp%pts(2, p))) = 0.0_dp
+      else
+        do i = 1, n1
+          k = b%node(i, j)
+          if (k == 0) cycle
+          x(1, k) = b%xc(1, i)
+          x(2, k) = b%xc(2, i)
         end do
-      end associate
+      end if
     end do
   end subroutine store
 

@@ -9,7 +9,10 @@ Cases: classic FE (Q8, HRZ and consistent mass, with damping), Q4 with a partiti
 Dirichlet boundary, NURBS (a refined biquadratic patch, consistent mass by the Cholesky factor
 and by corrector passes, whose halo exchanges cut the partition), a rectangular Q8 grid and a
 rectangular NURBS patch whose consistent mass is solved along the lattice directions
-(MASS SOLVER=KRONECKER, taken by the default AUTO; the log must say so), and the dynamic Hertz
+(MASS SOLVER=KRONECKER, taken by the default AUTO; the log must say so; the cases named
+*_fused record every 25 steps, so that on one rank the steps in between fold the updates of
+v and u into the solve, which must give the bits of the unfused steps the runs on several
+ranks take, with a contact correction in between for two Q8 blocks), and the dynamic Hertz
 problem with two-half-pass contact (NURBS HRZ, Q8 consistent) on partitions that cut right
 through the contact zone (checked from /model/partition). The cases named *_sweep record
 every 25 and 10 steps, so that the lumped-mass steps in between run as sweeps of several steps
@@ -56,6 +59,34 @@ def iga_deck(step=STEP, rectangle=False):
             + "*INITIAL CONDITIONS, TYPE=VELOCITY\nP, 2, 1.0\n*MASS, TYPE=CONSISTENT\n" + step)
 
 
+# record every 25 steps: the consistent-mass steps in between fold the updates of v and u
+# into the solve on one rank (mass_step), which must give the bits of the unfused step that
+# the runs on several ranks take
+FUSED_STEP = SWEEP_STEP.replace(", SWEEP STEPS=6", "")
+
+
+def q8_contact_deck():
+    """Two stacked rectangular Q8 blocks, the upper one moving down onto the lower one:
+    both lattices, so the consistent mass is solved along the lattice directions, with a
+    contact correction (a consistent solve of its own) between predictor and update."""
+    nx, ny = 8, 3
+    up_first = (2 * nx + 1) * (ny + 1) + (nx + 1) * ny + 1
+    return ("*HEADING\nparallel determinism, Q8 contact\n" + vcheck.material_block()
+            + vcheck.rect_mesh(type="Q8", nx=nx, ny=ny, lx=2.0, ly=0.75, elset="LO",
+                               prefix="LO_")
+            + vcheck.rect_mesh(type="Q8", nx=nx, ny=ny, lx=2.0, ly=0.75, y0=0.76,
+                               first_node=up_first, first_element=nx * ny + 1, elset="UP",
+                               prefix="UP_")
+            + "*SURFACE, NAME=LO_TOP, TYPE=ELEMENT\n"
+            + "".join(f"{e}, S3\n" for e in range(nx * (ny - 1) + 1, nx * ny + 1))
+            + "*SURFACE, NAME=UP_BOTTOM, TYPE=ELEMENT\n"
+            + "".join(f"{e}, S1\n" for e in range(nx * ny + 1, nx * ny + nx + 1))
+            + "*CONTACT PAIR, NAME=IFACE, PENALTY=2.0E4\nLO_TOP, UP_BOTTOM\n"
+            + "*BOUNDARY\nLO_BOTTOM, 2, 2\nLO_CORNER_LL, 1, 1\n"
+            + "*INITIAL CONDITIONS, TYPE=VELOCITY\nUP, 2, -1.0\n*MASS, TYPE=CONSISTENT\n"
+            + FUSED_STEP.replace("0, 1.5", "0, 0.3"))
+
+
 def compare(chk, tag, ref, other, n):
     a, b = ref.f, other.f
     names = []
@@ -87,6 +118,10 @@ def main():
              # directions (MASS SOLVER=AUTO takes KRONECKER), on the gathered loads
              "q8_kronecker": fe_deck("Q8", "*MASS, TYPE=CONSISTENT", distort=0.0),
              "iga_kronecker": iga_deck(rectangle=True),
+             "q8_kronecker_fused": fe_deck("Q8", "*MASS, TYPE=CONSISTENT", distort=0.0,
+                                           step=FUSED_STEP),
+             "iga_kronecker_fused": iga_deck(step=FUSED_STEP, rectangle=True),
+             "q8_kronecker_contact_fused": q8_contact_deck(),
              "hertz_iga_hrz": hertz.deck(hertz.options(kind="iga", mass="HRZ", subdivide=8,
                                                        t_end=0.3, field_every=200), "test"),
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
@@ -108,9 +143,14 @@ def main():
             if tag.endswith("_sweep"):
                 chk.true("sweeps: 6 steps per sweep" in log, f"{tag}: np = {n} runs sweeps "
                          "of 6 steps")
-            if tag.endswith("_kronecker"):
+            if "_kronecker" in tag:
                 chk.true("MASS SOLVER=KRONECKER" in log, f"{tag}: np = {n} solves the mass "
                          "along the lattice directions")
+            if tag.endswith("_fused"):
+                fused = "update v and u inside the solve" in log
+                chk.true(fused == (n == 1), f"{tag}: np = {n} "
+                         + ("folds the updates into the solve" if n == 1 else
+                            "solves on the gathered loads, updates apart"))
         for n in (2, 3, 4):
             compare(chk, tag, results[1], results[n], n)
         if tag.endswith("_sweep"):
@@ -140,6 +180,10 @@ def main():
                      f"contact zone (ranks {sorted(set(owner[zone].tolist()))} there)")
             f = results[1].history("contact/hertz/force_first")
             chk.true(np.max(np.abs(f[:, 1])) > 50.0, f"{tag}: the bodies are in contact")
+        if tag == "q8_kronecker_contact_fused":
+            f = results[1].history("contact/iface/force_first")
+            chk.true(np.max(np.abs(f[:, 1])) > 1.0, f"{tag}: the blocks are in contact "
+                     f"(peak force {np.max(np.abs(f[:, 1])):.3g})")
     chk.finish()
 
 
