@@ -77,16 +77,31 @@ module ictus_solver_tensor_mass
     real(dp), allocatable :: a(:,:), l(:,:)
   end type band_t
 
+  !> A hierarchical 1D Q8 mass A (vertex v at 2v - 1, the bubble of element e at 2e) in
+  !! condensed form: A_BB is diagonal (the bubbles of two elements do not overlap), so
+  !! A^-1 y = expand(S^-1 condense(y)) with the tridiagonal vertex Schur complement
+  !! S = A_VV - A_VB A_BB^-1 A_BV (its Cholesky factor in sv), condense(y)_v =
+  !! y_v - pr(v-1) y_(bubble v-1) - pl(v) y_(bubble v), and the bubbles expanded as
+  !! x_e = ab(e) y_e - pl(e) x_(vertex e) - pr(e) x_(vertex e+1), where ab = 1/A_BB and
+  !! pl, pr are the bubble's couplings to its left and right vertex times ab. Half the lines
+  !! and half the band of the banded factor of A.
+  type :: cond_t
+    type(band_t) :: sv
+    real(dp), allocatable :: ab(:), pl(:), pr(:)
+  end type cond_t
+
   !> One component of one block: the fixed lines of each direction (fix1, fix2; rows1 lists
   !! those of direction 1), the 1D matrices with the fixed lines as identity rows
-  !! (hierarchical for Q8), the factor of their vertex parts (Q8), and the isolated fixed
-  !! points with their unit responses w(:, :, k), the lattice box(1:4, k) = i1, i2, j1, j2
+  !! (hierarchical for Q8), the factor of their vertex parts and their condensed forms (Q8),
+  !! and the isolated fixed points with their unit responses w(:, :, k), the lattice
+  !! box(1:4, k) = i1, i2, j1, j2
   !! outside which |w(:, :, k)| < 1e-18 max |w(:, :, k)| (the inverse of a mass matrix decays
   !! exponentially away from the load), and the Cholesky factor h of the capacitance matrix
   !! H(l, k) = w(pts(l), k).
   type :: comp_t
     type(band_t) :: m(2)
     type(band_t) :: v(2)
+    type(cond_t) :: q(2)
     logical, allocatable :: fix1(:), fix2(:)
     integer, allocatable :: rows1(:)
     integer :: npts = 0
@@ -94,17 +109,19 @@ module ictus_solver_tensor_mass
     real(dp), allocatable :: w(:,:,:), h(:,:), beta(:)
   end type comp_t
 
-  !> One block: its kind and lattice, both components, and the work arrays of a solve: the
-  !! lattice z(:, :, c) of each component (and g for Q8), the B x B values r and the Schur
-  !! work t (direction 2) and tv (direction 1) of Q8, and for its first solve a ring of the
-  !! last back-substituted columns and a block zb of bubble columns (their indices jb).
+  !> One block: its kind and lattice (with kfirst(j) the first node of column j when the
+  !! nodes of that column are numbered one after the other, 0 otherwise), both components,
+  !! and the work arrays of a solve: the lattice z(:, :, c) of each component, the B x B
+  !! values r and the Schur work t (direction 2) and tv (direction 1) of Q8, and a ring of
+  !! columns (Q8: the last loads of a forward block, the last back-substituted vertex
+  !! columns) and a block zb of bubble columns (their indices jb).
   type :: tblock_t
     integer :: kind = TENSOR_DIRECT
     integer :: n(2) = 0
     integer :: ne(2) = 0
-    integer, allocatable :: node(:,:)
+    integer, allocatable :: node(:,:), kfirst(:)
     type(comp_t) :: c(2)
-    real(dp), allocatable :: z(:,:,:), g(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:)
+    real(dp), allocatable :: z(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:)
     integer, allocatable :: jb(:)
     !> One column of nodal values on its way out of `store` (2, n(1)).
     real(dp), allocatable :: xc(:,:)
@@ -470,6 +487,7 @@ contains
         b%kind = l%kind
         b%n = l%n
         b%node = l%node
+        call find_runs(b)
         b%what = l%what
         n1 = l%n(1)
         n2 = l%n(2)
@@ -490,8 +508,7 @@ contains
         allocate(b%xc(2, n1), source=0.0_dp)
         if (b%kind == TENSOR_SERENDIPITY) then
           call alloc_stream(b%tv, b%ne(1) + 1, b%ne(2), 0.0_dp)
-          allocate(b%ring(n1, 4), b%zb(n1, col_block), b%jb(col_block))
-          call alloc_stream(b%g, n1, n2, 2, 0.0_dp)
+          allocate(b%ring(n1, 2), b%zb(n1, col_block), b%jb(col_block))
           call alloc_stream(b%r, b%ne(1), b%ne(2), 2, 0.0_dp)
           call alloc_stream(b%t, b%ne(1), b%ne(2) + 1, 0.0_dp)
         end if
@@ -502,6 +519,8 @@ contains
             return
           end if
         end do
+        ! the plain columns again, now that the fixed points are known
+        call find_runs(b)
       end associate
     end do
     ! the proof: M v solved back to v for two pseudo-random v on the solved dofs
@@ -680,6 +699,7 @@ contains
         if (b%kind == TENSOR_SERENDIPITY) then
           call vertex_part(cp%m(k), cp%v(k))
           call band_factor(cp%v(k), ierr)
+          if (ierr == 0) call condensed(cp%m(k), cp%q(k), ierr)
           if (ierr /= 0) then
             reason = 'a 1D vertex mass is not positive definite'
             return
@@ -751,6 +771,57 @@ contains
       if (i > 1) v%a(1, i) = m%a(2, 2*i - 1)
     end do
   end subroutine vertex_part
+
+  !> The condensed form of a hierarchical 1D mass m (type cond_t; fixed lines are identity
+  !! rows, which leave their couplings 0); ierr /= 0 when the vertex Schur complement is not
+  !! positive definite.
+  subroutine condensed(m, q, ierr)
+    type(band_t), intent(in) :: m
+    type(cond_t), intent(out) :: q
+    integer, intent(out) :: ierr
+    integer :: e, v, ne
+    ! entry A(i, j), i >= j, is m%a(i - j, i)
+    ne = (m%n - 1)/2
+    allocate(q%ab(ne), q%pl(ne), q%pr(ne))
+    do e = 1, ne
+      q%ab(e) = 1.0_dp/m%a(0, 2*e)
+      q%pl(e) = m%a(1, 2*e)*q%ab(e)
+      q%pr(e) = m%a(1, 2*e + 1)*q%ab(e)
+    end do
+    call band_alloc(q%sv, ne + 1, 1)
+    do v = 1, ne + 1
+      q%sv%a(0, v) = m%a(0, 2*v - 1)
+      if (v > 1) then
+        q%sv%a(0, v) = q%sv%a(0, v) - m%a(1, 2*v - 1)*q%pr(v - 1)
+        q%sv%a(1, v) = m%a(2, 2*v - 1) - m%a(1, 2*v - 1)*q%pl(v - 1)
+      end if
+      if (v <= ne) q%sv%a(0, v) = q%sv%a(0, v) - m%a(1, 2*v)*q%pl(v)
+    end do
+    call band_factor(q%sv, ierr)
+  end subroutine condensed
+
+  !> b%kfirst(j): the first node of lattice column j when the column is plain: its nodes
+  !! (every lattice point, or for Q8 the odd ones of an even column) numbered one after the
+  !! other in lattice order, and no isolated fixed point of either component on it (once
+  !! those are known); 0 otherwise (then the solve goes through b%node).
+  subroutine find_runs(b)
+    type(tblock_t), intent(inout) :: b
+    integer :: i, j, step, c
+    if (.not. allocated(b%kfirst)) allocate(b%kfirst(b%n(2)))
+    do j = 1, b%n(2)
+      step = 1
+      if (b%kind == TENSOR_SERENDIPITY .and. mod(j, 2) == 0) step = 2
+      b%kfirst(j) = b%node(1, j)
+      do i = 1 + step, b%n(1), step
+        if (b%node(i, j) /= b%node(1, j) + (i - 1)/step) b%kfirst(j) = 0
+      end do
+      if (b%node(1, j) <= 0) b%kfirst(j) = 0
+      do c = 1, 2
+        if (.not. allocated(b%c(c)%pts)) cycle
+        if (any(b%c(c)%pts(2, 1:b%c(c)%npts) == j)) b%kfirst(j) = 0
+      end do
+    end do
+  end subroutine find_runs
 
   subroutine band_alloc(m, n, kd)
     type(band_t), intent(out) :: m
@@ -877,6 +948,7 @@ contains
           if (tm%b(ib)%node(i, j) > 0) tm%b(ib)%node(i, j) = map(tm%b(ib)%node(i, j))
         end do
       end do
+      call find_runs(tm%b(ib))
     end do
     if (size(tm%outside) > 0) tm%outside = map(tm%outside)
   end subroutine tensor_mass_renumber
@@ -947,9 +1019,9 @@ contains
 
   !> b%z(:, :, c1:c2) <- the solve of those components without the point correction, for
   !! the nodal loads f (both components: c1 = 1, c2 = 2) or for a unit load at lattice point
-  !! `unit`: the Kronecker inverse, or
-  !! for Q8 the capacitance solve in the hierarchical basis (module header), which leaves
-  !! hierarchical coefficients in z (`store` and `nodal_value` change them to nodal values).
+  !! `unit`: the Kronecker inverse, or for Q8 the capacitance solve in the hierarchical basis
+  !! (module header), which leaves hierarchical coefficients in z (`store` and `nodal_value`
+  !! change them to nodal values).
   subroutine base_solve(b, c1, c2, f, unit)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
@@ -957,20 +1029,20 @@ contains
     integer, intent(in), optional :: unit(2)
     integer :: c
     if (b%kind == TENSOR_DIRECT) then
-      call forward(b, c1, c2, 0, f, unit)
+      call forward(b, c1, c2, f, unit)
       call backward(b, c1, c2)
       return
     end if
-    ! g = (H1^T (x) H2^T) f; z = S g; mu = (G1^-1 (x) G2^-1) z_BB; z = S (g - E mu)
-    call load_hier(b, c1, c2, f, unit)
-    call forward(b, c1, c2, 1)
-    call backward_pick(b, c1, c2)
+    ! mu = (G1^-1 (x) G2^-1) (S g)_BB; z = S (g - E mu); g = (H1^T (x) H2^T) f, gathered
+    ! again in the second forward pass
+    call q8_forward(b, c1, c2, .false., f, unit)
+    call q8_back_pick(b, c1, c2)
     do c = c1, c2
       call schur_dim1(b%c(c)%m(1), b%c(c)%v(1), b%r(:, :, c), b%tv)
       call schur_dim2(b%c(c)%m(2), b%c(c)%v(2), b%r(:, :, c), b%t)
     end do
-    call forward(b, c1, c2, 2)
-    call backward(b, c1, c2)
+    call q8_forward(b, c1, c2, .true., f, unit)
+    call q8_backward(b, c1, c2)
   end subroutine base_solve
 
   !> Column j of a unit load at lattice point `unit` (the responses of the fixed points).
@@ -981,22 +1053,27 @@ contains
     if (unit(2) == j) col(unit(1)) = 1.0_dp
   end subroutine unit_column
 
-  !> Columns j of the nodal loads of both components in one sweep over f: f at the nodes,
-  !! 0 at Q8 centres, on fixed lines and at fixed points.
+  !> Columns j of the loads of both components in one sweep over f: f at the nodes, 0 at
+  !! Q8 centres, on fixed lines and at fixed points; for a Q8 block changed to the
+  !! hierarchical basis along direction 1 (g(i) = f(i) + (f(i-1) + f(i+1))/2 at the odd
+  !! points, the fixed rows 0 again). A plain column (b%kfirst(j) > 0: its nodes one range,
+  !! no fixed point on it) is read as that range of f, the change of basis on the way.
   subroutine gather_pair(b, j, col1, col2, f)
     type(tblock_t), intent(in) :: b
     integer, intent(in) :: j
     real(dp), intent(out) :: col1(:), col2(:)
     real(dp), intent(in) :: f(2, *)
-    integer :: i, k
-    if (b%kind == TENSOR_DIRECT) then
-      do i = 1, b%n(1)
-        k = b%node(i, j)
-        col1(i) = f(1, k)
-        col2(i) = f(2, k)
-      end do
+    integer :: i, k, k0, n1
+    n1 = b%n(1)
+    k0 = b%kfirst(j)
+    if (k0 > 0 .and. b%kind == TENSOR_DIRECT) then
+      call load_run(n1, f(1, k0), col1, col2)
+    else if (k0 > 0 .and. mod(j, 2) == 1) then
+      call load_run_q8(n1, f(1, k0), col1, col2)
+    else if (k0 > 0) then
+      call load_run_q8_centres(n1, f(1, k0), col1, col2)
     else
-      do i = 1, b%n(1)
+      do i = 1, n1
         k = b%node(i, j)
         col1(i) = 0.0_dp
         col2(i) = 0.0_dp
@@ -1005,17 +1082,86 @@ contains
           col2(i) = f(2, k)
         end if
       end do
+      call zero_fixed(b%c(1), j, col1)
+      call zero_fixed(b%c(2), j, col2)
+      if (b%kind == TENSOR_SERENDIPITY) then
+        call hier_column(col1)
+        call hier_column(col2)
+      end if
     end if
-    call zero_fixed(b%c(1), j, col1)
-    call zero_fixed(b%c(2), j, col2)
+    call zero_lines(b%c(1), j, col1)
+    call zero_lines(b%c(2), j, col2)
   end subroutine gather_pair
 
-  !> The fixed dofs of column j of one component's loads set to 0.
-  pure subroutine zero_fixed(cp, j, col)
+  !> The loads of a lattice column from the pairs fl(1:2n) of its n nodes, numbered one after
+  !! the other: the two components apart.
+  pure subroutine load_run(n, fl, col1, col2)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: fl(2*n)
+    real(dp), intent(out) :: col1(n), col2(n)
+    integer :: i
+    do i = 1, n
+      col1(i) = fl(2*i - 1)
+      col2(i) = fl(2*i)
+    end do
+  end subroutine load_run
+
+  !> The same for an odd column of a Q8 block (a node at every lattice point), changed to
+  !! the hierarchical basis along the column (as `hier_column`).
+  pure subroutine load_run_q8(n, fl, col1, col2)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: fl(2*n)
+    real(dp), intent(out) :: col1(n), col2(n)
+    integer :: i
+    col1(1) = fl(1) + 0.5_dp*fl(3)
+    col2(1) = fl(2) + 0.5_dp*fl(4)
+    ! points 2v (a midside node) and 2v + 1 (a vertex) of each pair
+    do i = 2, n - 3, 2
+      col1(i) = fl(2*i - 1)
+      col2(i) = fl(2*i)
+      col1(i + 1) = fl(2*i + 1) + 0.5_dp*(fl(2*i - 1) + fl(2*i + 3))
+      col2(i + 1) = fl(2*i + 2) + 0.5_dp*(fl(2*i) + fl(2*i + 4))
+    end do
+    col1(n - 1) = fl(2*n - 3)
+    col2(n - 1) = fl(2*n - 2)
+    col1(n) = fl(2*n - 1) + 0.5_dp*fl(2*n - 3)
+    col2(n) = fl(2*n) + 0.5_dp*fl(2*n - 2)
+  end subroutine load_run_q8
+
+  !> The same for an even column of a Q8 block: nodes at the odd lattice points only, the
+  !! pairs fl(1:n+1) of its (n + 1)/2 nodes; 0 at the element centres (so the change of
+  !! basis adds nothing).
+  pure subroutine load_run_q8_centres(n, fl, col1, col2)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: fl(n + 1)
+    real(dp), intent(out) :: col1(n), col2(n)
+    integer :: i
+    do i = 1, n
+      col1(i) = merge(fl(i), 0.0_dp, mod(i, 2) == 1)
+      col2(i) = merge(fl(i + 1), 0.0_dp, mod(i, 2) == 1)
+    end do
+  end subroutine load_run_q8_centres
+
+  !> A column of loads changed to the hierarchical basis along it: g(i) = f(i) +
+  !! (f(i-1) + f(i+1))/2 at the odd (vertex) points.
+  pure subroutine hier_column(g)
+    real(dp), intent(inout) :: g(:)
+    integer :: i, n
+    n = size(g)
+    g(1) = g(1) + 0.5_dp*g(2)
+    do i = 3, n - 2, 2
+      g(i) = g(i) + 0.5_dp*(g(i - 1) + g(i + 1))
+    end do
+    g(n) = g(n) + 0.5_dp*g(n - 1)
+  end subroutine hier_column
+
+  !> The fixed lines of column j of one component's loads set to 0 (a fixed column, the
+  !! fixed rows).
+  pure subroutine zero_lines(cp, j, col)
     type(comp_t), intent(in) :: cp
     integer, intent(in) :: j
     real(dp), intent(inout) :: col(:)
-    integer :: k, p
+    integer :: k
     if (cp%fix2(j)) then
       col = 0.0_dp
       return
@@ -1023,98 +1169,47 @@ contains
     do k = 1, size(cp%rows1)
       col(cp%rows1(k)) = 0.0_dp
     end do
+  end subroutine zero_lines
+
+  !> The fixed dofs of column j of one component's loads set to 0: its fixed lines and its
+  !! isolated fixed points.
+  pure subroutine zero_fixed(cp, j, col)
+    type(comp_t), intent(in) :: cp
+    integer, intent(in) :: j
+    real(dp), intent(inout) :: col(:)
+    integer :: p
+    call zero_lines(cp, j, col)
     do p = 1, cp%npts
       if (cp%pts(2, p) == j) col(cp%pts(1, p)) = 0.0_dp
     end do
   end subroutine zero_fixed
 
-  !> b%g <- (H1^T (x) H2^T) of the nodal loads (Q8): the loads on the hierarchical basis,
-  !! g(2v-1) = f(2v-1) + (f(2v-2) + f(2v))/2 at the vertices of each direction, 0 on fixed
-  !! lines. One pass: an odd column is completed once the even column after it is loaded.
-  subroutine load_hier(b, c1, c2, f, unit)
+  !> Forward elimination of the Kronecker solve of a direct block, col_block columns at a
+  !! time: the columns are gathered (or set to the unit load), solved along direction 1
+  !! together (`lines_solve`: one recurrence whose lanes are the columns), and eliminated
+  !! along direction 2 one after the other, while the block is still in the cache.
+  subroutine forward(b, c1, c2, f, unit)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
     real(dp), intent(in), optional :: f(2, *)
     integer, intent(in), optional :: unit(2)
-    integer :: j, i, n1, n2, c
-    n1 = b%n(1)
-    n2 = b%n(2)
-    associate (g => b%g)
-      do j = 1, n2
-        if (.not. present(unit)) call gather_pair(b, j, g(:, j, 1), g(:, j, 2), f)
-        do c = c1, c2
-          if (present(unit)) call unit_column(j, g(:, j, c), unit)
-          g(1, j, c) = g(1, j, c) + 0.5_dp*g(2, j, c)
-          do i = 3, n1 - 2, 2
-            g(i, j, c) = g(i, j, c) + 0.5_dp*(g(i - 1, j, c) + g(i + 1, j, c))
-          end do
-          g(n1, j, c) = g(n1, j, c) + 0.5_dp*g(n1 - 1, j, c)
-          if (mod(j, 2) == 0) call finish(j - 1, c)
-        end do
-      end do
-      do c = c1, c2
-        call finish(n2, c)
-      end do
-    end associate
-  contains
-    !> The direction-2 part of odd column jj, then the fixed rows of it and of the column
-    !! after it.
-    subroutine finish(jj, c)
-      integer, intent(in) :: jj, c
-      integer :: k
-      associate (g => b%g, cp => b%c(c))
-        if (jj > 1) g(:, jj, c) = g(:, jj, c) + 0.5_dp*g(:, jj - 1, c)
-        if (jj < n2) g(:, jj, c) = g(:, jj, c) + 0.5_dp*g(:, jj + 1, c)
-        if (cp%fix2(jj)) g(:, jj, c) = 0.0_dp
-        do k = 1, size(cp%rows1)
-          g(cp%rows1(k), jj, c) = 0.0_dp
-          if (jj < n2) g(cp%rows1(k), jj + 1, c) = 0.0_dp
-        end do
-      end associate
-    end subroutine finish
-  end subroutine load_hier
-
-  !> Forward elimination of the Kronecker solve, col_block columns at a time: the columns
-  !! are set (mode 0: gathered loads; 1: from g; 2: from g - E mu), solved along direction 1
-  !! together (`lines_solve`: one recurrence whose lanes are the columns), and eliminated
-  !! along direction 2 one after the other, while the block is still in the cache.
-  subroutine forward(b, c1, c2, mode, f, unit)
-    type(tblock_t), intent(inout) :: b
-    integer, intent(in) :: c1, c2, mode
-    real(dp), intent(in), optional :: f(2, *)
-    integer, intent(in), optional :: unit(2)
-    integer :: j0, j1, j, i, k, n2, c
+    integer :: j0, j1, j, k, n2, c
     real(dp) :: l0, l1, l2
     n2 = b%n(2)
     associate (z => b%z)
       do j0 = 1, n2, col_block
         j1 = min(j0 + col_block - 1, n2)
-        if (mode == 0 .and. .not. present(unit)) then
-          do j = j0, j1
+        do j = j0, j1
+          if (present(unit)) then
+            do c = c1, c2
+              call unit_column(j, z(:, j, c), unit)
+            end do
+          else
             call gather_pair(b, j, z(:, j, 1), z(:, j, 2), f)
-          end do
-        end if
-        do c = c1, c2
-          do j = j0, j1
-            select case (mode)
-            case (0)
-              if (present(unit)) call unit_column(j, z(:, j, c), unit)
-            case (1)
-              z(:, j, c) = b%g(:, j, c)
-            case default
-              z(:, j, c) = b%g(:, j, c)
-              if (mod(j, 2) == 0) then
-                do i = 1, b%ne(1)
-                  z(2*i, j, c) = z(2*i, j, c) - b%r(i, j/2, c)
-                end do
-              end if
-            end select
-          end do
+          end if
         end do
         do c = c1, c2
-          ! the first Q8 solve needs only the B x B values: direction 1 comes after direction
-          ! 2 there, on the bubble columns alone (`backward_pick`)
-          if (mode /= 1) call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
+          call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
           associate (m2 => b%c(c)%m(2))
             do j = j0, j1
               l0 = m2%l(0, j)
@@ -1196,7 +1291,7 @@ contains
     end if
   end subroutine lines_solve
 
-  !> Back substitution along direction 2.
+  !> Back substitution along direction 2 (direct blocks).
   subroutine backward(b, c1, c2)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
@@ -1224,73 +1319,205 @@ contains
     end associate
   end subroutine backward
 
-  !> Column j of the back substitution along direction 2 into y: z(:, j) less the
-  !! contributions of the columns after it, read from the ring buffer of the last kd
-  !! results (column j' in slot mod(j', kd + 1) + 1; y is the slot of j, which no other
-  !! slot overlaps).
-  subroutine back_column(m2, z, j, y, ring)
-    type(band_t), intent(in) :: m2
-    real(dp), intent(in) :: z(:,:)
-    integer, intent(in) :: j
-    real(dp), intent(inout) :: y(:)
-    real(dp), intent(in) :: ring(:,:)
-    integer :: k, n2, s1, s2
-    real(dp) :: l0, l1, l2
-    n2 = m2%n
-    l0 = m2%l(0, j)
-    if (m2%kd == 2 .and. j < n2 - 1) then
-      l1 = m2%l(1, j + 1)
-      l2 = m2%l(2, j + 2)
-      s1 = mod(j + 1, 3) + 1
-      s2 = mod(j + 2, 3) + 1
-      y = ((z(:, j) - l2*ring(:, s2)) - l1*ring(:, s1))*l0
-    else
-      y = z(:, j)
-      do k = min(m2%kd, n2 - j), 1, -1
-        y = y - m2%l(k, j + k)*ring(:, mod(j + k, m2%kd + 1) + 1)
-      end do
-      y = y*l0
-    end if
-  end subroutine back_column
+  ! ------------------------------------------------------------------ Q8 blocks
+  ! The Kronecker solves of a Q8 block work on the hierarchical 1D masses in their condensed
+  ! form (type cond_t): A^-1 y = condense, a tridiagonal solve on the vertex lines, expand.
+  ! Along direction 2 the lines are lattice columns (whole vectors), along direction 1 the
+  ! lattice rows (vertex rows solved col_block columns at a time by `lines_solve`).
 
-  !> The back substitution of the first Q8 solve, which only needs its B x B values: the
-  !! columns go through a ring buffer (z is not written), and each bubble column is copied
-  !! to zb; every col_block of them are solved along direction 1 together and their bubble
-  !! rows go to r.
-  subroutine backward_pick(b, c1, c2)
+  !> The forward pass of a Q8 Kronecker solve, col_block columns at a time (col_block is
+  !! even, so a block ends on an even column and each of its odd columns has both
+  !! neighbours loaded): the nodal loads (or the unit load) of each column changed to the
+  !! hierarchical basis along direction 1; the odd (vertex) columns along direction 2
+  !! (g = (H1^T (x) H2^T) f, the fixed lines set to 0); with `second`, g - E mu, solved
+  !! along direction 1; then the vertex columns condensed and eliminated along direction 2
+  !! (`q8_vertex_forward`). The even columns keep their values. b%ring(:, c) carries the last
+  !! even column of a block's loads to the next block.
+  subroutine q8_forward(b, c1, c2, second, f, unit)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
-    integer :: j, c, nb, kd
-    do c = c1, c2
-      kd = b%c(c)%m(2)%kd
-      nb = 0
-      do j = b%n(2), 1, -1
-        associate (slot => b%ring(:, mod(j, kd + 1) + 1))
-          call back_column(b%c(c)%m(2), b%z(:, :, c), j, slot, b%ring(:, 1:kd + 1))
-          if (mod(j, 2) == 0) then
-            nb = nb + 1
-            b%zb(:, nb) = slot
-            b%jb(nb) = j
-            if (nb == col_block .or. j == 2) then
-              call pick(nb)
-              nb = 0
-            end if
+    logical, intent(in) :: second
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: j0, j1, j, n2, c, i
+    n2 = b%n(2)
+    associate (z => b%z)
+      do j0 = 1, n2, col_block
+        j1 = min(j0 + col_block - 1, n2)
+        ! loads, changed to the hierarchical basis along direction 1 (`gather_pair`)
+        do j = j0, j1
+          if (present(unit)) then
+            do c = c1, c2
+              call unit_column(j, z(:, j, c), unit)
+              call hier_column(z(:, j, c))
+              call zero_lines(b%c(c), j, z(:, j, c))
+            end do
+          else
+            call gather_pair(b, j, z(:, j, 1), z(:, j, 2), f)
           end if
-        end associate
-      end do
-    end do
-  contains
-    subroutine pick(nb)
-      integer, intent(in) :: nb
-      integer :: q, i
-      call lines_solve(b%c(c)%m(1), b%zb(:, 1:nb))
-      do q = 1, nb
-        do i = 1, b%ne(1)
-          b%r(i, b%jb(q)/2, c) = b%zb(2*i, q)
+        end do
+        ! and along direction 2: each vertex column takes half the loads of its neighbours
+        do c = c1, c2
+          associate (prev => b%ring(:, c))
+            do j = j0, j1, 2
+              if (j > 1) z(:, j, c) = z(:, j, c) + 0.5_dp*prev
+              if (j < n2) z(:, j, c) = z(:, j, c) + 0.5_dp*z(:, j + 1, c)
+              if (b%c(c)%fix2(j)) z(:, j, c) = 0.0_dp
+              if (j < n2) prev = z(:, j + 1, c)
+            end do
+          end associate
+        end do
+        if (second) then
+          do c = c1, c2
+            do j = j0 + 1, j1, 2
+              do i = 1, b%ne(1)
+                z(2*i, j, c) = z(2*i, j, c) - b%r(i, j/2, c)
+              end do
+            end do
+            call q8_lines(b%c(c)%q(1), z(:, j0:j1, c))
+          end do
+        end if
+        do c = c1, c2
+          call q8_vertex_forward(b%c(c)%q(2), z(:, :, c), j0, j1)
         end do
       end do
-    end subroutine pick
-  end subroutine backward_pick
+    end associate
+  end subroutine q8_forward
+
+  !> Direction 2, forward, on the vertex columns j0, j0 + 2, .., j1 of z (j0 odd): condensed
+  !! (y_v -= pr(v-1) z_(bubble v-1) + pl(v) z_(bubble v)) and eliminated with the factor of
+  !! the vertex Schur complement.
+  subroutine q8_vertex_forward(q, z, j0, j1)
+    type(cond_t), intent(in) :: q
+    real(dp), intent(inout) :: z(:,:)
+    integer, intent(in) :: j0, j1
+    integer :: j, v, n2
+    real(dp) :: pr, pl, l1, l0
+    n2 = size(z, 2)
+    do j = j0, j1, 2
+      v = (j + 1)/2
+      l0 = q%sv%l(0, v)
+      if (j > 1 .and. j < n2) then
+        pr = q%pr(v - 1)
+        pl = q%pl(v)
+        l1 = q%sv%l(1, v)
+        z(:, j) = (((z(:, j) - pr*z(:, j - 1)) - pl*z(:, j + 1)) - l1*z(:, j - 2))*l0
+      else if (j == 1) then
+        z(:, j) = (z(:, j) - q%pl(v)*z(:, j + 1))*l0
+      else
+        z(:, j) = ((z(:, j) - q%pr(v - 1)*z(:, j - 1)) - q%sv%l(1, v)*z(:, j - 2))*l0
+      end if
+    end do
+  end subroutine q8_vertex_forward
+
+  !> The condensed solve along direction 1 of every column of x (at most col_block): each
+  !! column condensed on its vertex rows, the vertex rows solved together (`lines_solve`
+  !! with the tridiagonal factor), the bubble rows expanded.
+  subroutine q8_lines(q, x)
+    type(cond_t), intent(in) :: q
+    real(dp), intent(inout) :: x(:,:)
+    integer :: j
+    do j = 1, size(x, 2)
+      call q8_condense(q, x(:, j))
+    end do
+    call lines_solve(q%sv, x(1::2, :))
+    do j = 1, size(x, 2)
+      call q8_expand(q, x(:, j))
+    end do
+  end subroutine q8_lines
+
+  !> y(2v-1) <- y(2v-1) - pr(v-1) y(2v-2) - pl(v) y(2v): the load of the vertex Schur
+  !! complement.
+  pure subroutine q8_condense(q, y)
+    type(cond_t), intent(in) :: q
+    real(dp), intent(inout) :: y(:)
+    integer :: v, nv
+    nv = q%sv%n
+    if (nv > 1) y(1) = y(1) - q%pl(1)*y(2)
+    do v = 2, nv - 1
+      y(2*v - 1) = (y(2*v - 1) - q%pr(v - 1)*y(2*v - 2)) - q%pl(v)*y(2*v)
+    end do
+    y(2*nv - 1) = y(2*nv - 1) - q%pr(nv - 1)*y(2*nv - 2)
+  end subroutine q8_condense
+
+  !> x(2e) <- ab(e) y(2e) - pl(e) x(2e-1) - pr(e) x(2e+1): the bubbles from the solved
+  !! vertices.
+  pure subroutine q8_expand(q, x)
+    type(cond_t), intent(in) :: q
+    real(dp), intent(inout) :: x(:)
+    integer :: e
+    do e = 1, size(q%ab)
+      x(2*e) = (q%ab(e)*x(2*e) - q%pl(e)*x(2*e - 1)) - q%pr(e)*x(2*e + 1)
+    end do
+  end subroutine q8_expand
+
+  !> The backward pass of the first Q8 solve, which only needs its B x B values: the vertex
+  !! columns back-substituted along direction 2 into a ring of two columns (z is not
+  !! written), each even column expanded from its neighbours into zb; every col_block of
+  !! them are solved along direction 1 together and their bubble rows go to r.
+  subroutine q8_back_pick(b, c1, c2)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    integer :: j, c, nb, v, n2, s, e, q, i
+    n2 = b%n(2)
+    do c = c1, c2
+      associate (q2 => b%c(c)%q(2), z => b%z(:, :, c), ring => b%ring)
+        nb = 0
+        do j = n2, 1, -2
+          v = (j + 1)/2
+          s = mod(v, 2) + 1
+          if (j < n2) then
+            ring(:, s) = (z(:, j) - q2%sv%l(1, v + 1)*ring(:, 3 - s))*q2%sv%l(0, v)
+            e = v
+            nb = nb + 1
+            b%zb(:, nb) = (q2%ab(e)*z(:, j + 1) - q2%pl(e)*ring(:, s)) - q2%pr(e)*ring(:, 3 - s)
+            b%jb(nb) = j + 1
+            if (nb == col_block .or. j == 1) then
+              ! direction 1 on these columns, bubble rows into r
+              do q = 1, nb
+                call q8_condense(b%c(c)%q(1), b%zb(:, q))
+              end do
+              call lines_solve(b%c(c)%q(1)%sv, b%zb(1::2, 1:nb))
+              associate (q1 => b%c(c)%q(1))
+                do q = 1, nb
+                  do i = 1, b%ne(1)
+                    b%r(i, b%jb(q)/2, c) = (q1%ab(i)*b%zb(2*i, q) - q1%pl(i)*b%zb(2*i - 1, q)) &
+                        - q1%pr(i)*b%zb(2*i + 1, q)
+                  end do
+                end do
+              end associate
+              nb = 0
+            end if
+          else
+            ring(:, s) = z(:, j)*q2%sv%l(0, v)
+          end if
+        end do
+      end associate
+    end do
+  end subroutine q8_back_pick
+
+  !> The backward pass of the second Q8 solve: the vertex columns back-substituted along
+  !! direction 2, each even column expanded from its neighbours at its nodes (odd rows; the
+  !! centres are not needed).
+  subroutine q8_backward(b, c1, c2)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    integer :: j, c, v, n1, n2, i
+    n1 = b%n(1)
+    n2 = b%n(2)
+    do c = c1, c2
+      associate (q2 => b%c(c)%q(2), z => b%z(:, :, c))
+        z(:, n2) = z(:, n2)*q2%sv%l(0, (n2 + 1)/2)
+        do j = n2 - 2, 1, -2
+          v = (j + 1)/2
+          z(:, j) = (z(:, j) - q2%sv%l(1, v + 1)*z(:, j + 2))*q2%sv%l(0, v)
+          do i = 1, n1, 2
+            z(i, j + 1) = (q2%ab(v)*z(i, j + 1) - q2%pl(v)*z(i, j)) - q2%pr(v)*z(i, j + 2)
+          end do
+        end do
+      end associate
+    end do
+  end subroutine q8_backward
 
   !> x(:, node) for every node of the block: the nodal values of z (for Q8 the change from
   !! the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each direction;
@@ -1298,14 +1525,16 @@ contains
   !! beta = H^-1 u(pts), per component. With `dt` (and u, v, u_next) x is not stored but
   !! taken as the solve for -f and folded into the step: v <- v - dt x, u_next <- u + dt v,
   !! node by node (the same operations, so the same bits, as a = x(-f), v = v + dt a,
-  !! u_next = u + dt v). One column at a time through b%xc, in the order of the node numbers
-  !! (for Q8 each odd column followed by the even one after it).
+  !! u_next = u + dt v). One column at a time through b%xc, which holds the column's nodes
+  !! in lattice order (for an even Q8 column its odd points); a plain column (b%kfirst) is
+  !! written as one range of nodes.
   subroutine store(b, x, dt, u, v, u_next)
     type(tblock_t), intent(inout) :: b
     real(dp), intent(inout), optional :: x(2, *)
     real(dp), intent(in), optional :: dt, u(2, *)
     real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
-    integer :: i, j, p, n1, n2, c, k
+    integer :: i, j, p, n1, n2, c, k, m, nm, k0
+    logical :: centres
     n1 = b%n(1)
     n2 = b%n(2)
     do c = 1, 2
@@ -1317,25 +1546,28 @@ contains
       end associate
     end do
     do j = 1, n2
+      centres = b%kind == TENSOR_SERENDIPITY .and. mod(j, 2) == 0
+      nm = n1
       associate (z => b%z, xc => b%xc)
         if (b%kind == TENSOR_DIRECT) then
           do i = 1, n1
             xc(1, i) = z(i, j, 1)
             xc(2, i) = z(i, j, 2)
           end do
-        else if (mod(j, 2) == 1) then
-          do i = 1, n1, 2
-            xc(1, i) = z(i, j, 1)
-            xc(2, i) = z(i, j, 2)
-          end do
+        else if (.not. centres) then
+          xc(1, 1) = z(1, j, 1)
+          xc(2, 1) = z(1, j, 2)
           do i = 2, n1 - 1, 2
             xc(1, i) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
             xc(2, i) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
+            xc(1, i + 1) = z(i + 1, j, 1)
+            xc(2, i + 1) = z(i + 1, j, 2)
           end do
         else
-          do i = 1, n1, 2
-            xc(1, i) = z(i, j, 1) + 0.5_dp*(z(i, j - 1, 1) + z(i, j + 1, 1))
-            xc(2, i) = z(i, j, 2) + 0.5_dp*(z(i, j - 1, 2) + z(i, j + 1, 2))
+          nm = (n1 + 1)/2
+          do m = 1, nm
+            xc(1, m) = z(2*m - 1, j, 1) + 0.5_dp*(z(2*m - 1, j - 1, 1) + z(2*m - 1, j + 1, 1))
+            xc(2, m) = z(2*m - 1, j, 2) + 0.5_dp*(z(2*m - 1, j - 1, 2) + z(2*m - 1, j + 1, 2))
           end do
         end if
       end associate
@@ -1345,33 +1577,52 @@ contains
           do p = 1, cp%npts
             if (j < cp%box(3, p) .or. j > cp%box(4, p)) cycle
             do i = cp%box(1, p), cp%box(2, p)
-              b%xc(c, i) = b%xc(c, i) - cp%beta(p)*cp%w(i, j, p)
+              if (b%node(i, j) == 0) cycle
+              m = merge((i + 1)/2, i, centres)
+              b%xc(c, m) = b%xc(c, m) - cp%beta(p)*cp%w(i, j, p)
             end do
           end do
           do p = 1, cp%npts
-            if (cp%pts(2, p) == j) b%xc(c, cp%pts(1, p)) = 0.0_dp
+            if (cp%pts(2, p) == j) b%xc(c, merge((cp%pts(1, p) + 1)/2, cp%pts(1, p), &
+                centres)) = 0.0_dp
           end do
         end associate
       end do
-      if (present(dt)) then
-        do i = 1, n1
-          k = b%node(i, j)
-          if (k == 0) cycle
-          v(1, k) = v(1, k) - dt*b%xc(1, i)
-          v(2, k) = v(2, k) - dt*b%xc(2, i)
-          u_next(1, k) = u(1, k) + dt*v(1, k)
-          u_next(2, k) = u(2, k) + dt*v(2, k)
-        end do
+      k0 = b%kfirst(j)
+      if (k0 > 0 .and. present(dt)) then
+        call step_run(2*nm, b%xc, dt, u(1, k0), v(1, k0), u_next(1, k0))
+      else if (k0 > 0) then
+        x(:, k0:k0 + nm - 1) = b%xc(:, 1:nm)
       else
-        do i = 1, n1
-          k = b%node(i, j)
+        do m = 1, nm
+          k = b%node(merge(2*m - 1, m, centres), j)
           if (k == 0) cycle
-          x(1, k) = b%xc(1, i)
-          x(2, k) = b%xc(2, i)
+          if (present(dt)) then
+            v(1, k) = v(1, k) - dt*b%xc(1, m)
+            v(2, k) = v(2, k) - dt*b%xc(2, m)
+            u_next(1, k) = u(1, k) + dt*v(1, k)
+            u_next(2, k) = u(2, k) + dt*v(2, k)
+          else
+            x(1, k) = b%xc(1, m)
+            x(2, k) = b%xc(2, m)
+          end if
         end do
       end if
     end do
   end subroutine store
+
+  !> The updates of the fused step on a range of n values (the pairs of consecutive nodes):
+  !! v <- v - dt x, u_next <- u + dt v.
+  pure subroutine step_run(n, x, dt, u, v, u_next)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: x(n), dt, u(n)
+    real(dp), intent(inout) :: v(n), u_next(n)
+    integer :: q
+    do q = 1, n
+      v(q) = v(q) - dt*x(q)
+      u_next(q) = u(q) + dt*v(q)
+    end do
+  end subroutine step_run
 
   !> The nodal value of component c of b%z at lattice point (i, j) (a node).
   pure real(dp) function nodal_value(b, c, i, j) result(u)

@@ -3,9 +3,11 @@
 !!
 !! * Q8, Q9 and Q4 grids with graded spacing and nodes numbered against the lattice, NURBS
 !!   rectangles of degree 2 (graded knots) and 3 (the generic band path), two separate Q8
-!!   blocks; with fixed lines in either direction and isolated fixed points (one, and three
-!!   on one edge). Each must be taken by the Kronecker solver and agree with the dense solve
-!!   to 1e-11;
+!!   blocks, grids longer than one block of columns of the solve with the nodes of each
+!!   lattice column one range of the model's nodes or not; with fixed lines in either direction and isolated fixed
+!!   points (one, and three on one edge). Each must be taken by the Kronecker solver and
+!!   agree with the dense solve to 1e-11, and its fused step (mass_step: the solve with the
+!!   updates of v and u folded in) must give the bits of the solve and the updates;
 !! * what must be refused, with its reason, and then (MASS SOLVER=AUTO) solved by the
 !!   Cholesky factor instead, still agreeing with the dense solve: a Q8 grid whose midside
 !!   nodes are off the midpoints (the lattice is found; the set-up check refuses it), two
@@ -20,7 +22,8 @@ program test_kronecker_mass
       MASS_SOLVER_AUTO
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_assemble, only: operators_t, assemble_operators
-  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_step, &
+      mass_steps_fused
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_reader, only: read_deck
@@ -41,6 +44,18 @@ program test_kronecker_mass
       expect=MASS_SOLVER_KRONECKER)
   call check_fe(t, 'q8, two blocks', 'Q8', 3, 2, grade=.true., bc='roller', &
       expect=MASS_SOLVER_KRONECKER, blocks=2)
+  ! longer than one block of columns of the solve (col_block = 32 lattice columns), nodes
+  ! in the order of the lattice columns (the solve reads and writes them as ranges) or across
+  call check_fe(t, 'q8 tall', 'Q8', 4, 34, grade=.true., bc='roller', &
+      expect=MASS_SOLVER_KRONECKER)
+  call check_fe(t, 'q8 tall, nodes across the lattice', 'Q8', 4, 34, grade=.true., &
+      bc='roller', expect=MASS_SOLVER_KRONECKER, across=.true.)
+  call check_fe(t, 'q8 tall, clamped left, 3 points', 'Q8', 3, 20, grade=.false., &
+      bc='left+points', expect=MASS_SOLVER_KRONECKER)
+  call check_fe(t, 'q9 tall', 'Q9', 3, 20, grade=.true., bc='roller', &
+      expect=MASS_SOLVER_KRONECKER)
+  call check_fe(t, 'q4 tall, nodes across the lattice', 'Q4', 5, 40, grade=.true., &
+      bc='left', expect=MASS_SOLVER_KRONECKER, across=.true.)
   call check_iga(t, 'nurbs p = 2, graded knots', 2, weight=1.0_dp, expect=MASS_SOLVER_KRONECKER)
   call check_iga(t, 'nurbs p = 3', 3, weight=1.0_dp, expect=MASS_SOLVER_KRONECKER)
   ! refused, then solved by the factor
@@ -87,11 +102,13 @@ contains
   end function vertex
 
   !> A grid of nx x ny elements of type et (Q4, Q8, Q9) on [0, 2] x [0, 1] (with `blocks`
-  !! = 2 a second grid beside it), nodes numbered backwards; boundary conditions `bc`:
+  !! = 2 a second grid beside it), nodes numbered backwards and listed along the x lines (the
+  !! lattice columns of the solve), or with `across` listed along the y lines (a lattice
+  !! column's nodes are not one range of the model's nodes); boundary conditions `bc`:
   !! 'roller' (bottom y, lower left x), 'left' (left edge), 'left+points' (left edge and x at
   !! three top nodes), 'points10' (x at ten top nodes, y on the left edge).
   subroutine check_fe(t, label, et, nx, ny, grade, bc, expect, blocks, offmid, density2, turn, &
-      reason, asked)
+      reason, asked, across)
     type(checker_t), intent(inout) :: t
     character(len=*), intent(in) :: label, et, bc
     integer, intent(in) :: nx, ny, expect
@@ -100,6 +117,7 @@ contains
     logical, intent(in), optional :: offmid, density2
     real(dp), intent(in), optional :: turn
     character(len=*), intent(in), optional :: reason, asked
+    logical, intent(in), optional :: across
     character(len=*), parameter :: path = 'test_kronecker_mass.inp'
     integer :: u, s, n1, n2, nb, blk, i, j, k, nn, a, b, e, ne, np, idx
     integer, allocatable :: id(:,:,:)
@@ -141,13 +159,18 @@ contains
     write(u, '(a)') '*NODE'
     do blk = 1, nb
       x0 = 3.0_dp*(blk - 1)
-      do j = 0, n2 - 1
-        do i = 0, n1 - 1
-          if (id(i, j, blk) == 0) cycle
-          x = x0 + line_coord(i*(3 - s), nx, 2.0_dp, grade, off .and. s == 2)
-          y = line_coord(j*(3 - s), ny, 1.0_dp, grade, off .and. s == 2)
-          write(u, '(i0,2(", ",es24.16))') id(i, j, blk), c*x - sn*y, sn*x + c*y
-        end do
+      do k = 0, n1*n2 - 1
+        if (present(across)) then
+          i = k/n2
+          j = mod(k, n2)
+        else
+          i = mod(k, n1)
+          j = k/n1
+        end if
+        if (id(i, j, blk) == 0) cycle
+        x = x0 + line_coord(i*(3 - s), nx, 2.0_dp, grade, off .and. s == 2)
+        y = line_coord(j*(3 - s), ny, 1.0_dp, grade, off .and. s == 2)
+        write(u, '(i0,2(", ",es24.16))') id(i, j, blk), c*x - sn*y, sn*x + c*y
       end do
     end do
     ne = 0
@@ -377,5 +400,33 @@ contains
         str(err, 3))
     call t%true(all(a(1, :) == 0.0_dp .or. .not. model%fixed(1, :)) .and. &
         all(a(2, :) == 0.0_dp .or. .not. model%fixed(2, :)), label//': 0 on the fixed dofs')
+    if (op%solver == MASS_SOLVER_KRONECKER) call check_fused(t, label, op, dom, f)
   end subroutine run_case
+
+  !> The step's updates folded into the solve (mass_step, taken by one rank) against the
+  !! solve of -kf and the updates it replaces: v + dt a and u + dt v, the same bits.
+  subroutine check_fused(t, label, op, dom, kf)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: label
+    type(mass_op_t), intent(inout) :: op
+    type(domain_t), intent(inout) :: dom
+    real(dp), intent(in) :: kf(:,:)
+    real(dp), allocatable :: u(:,:), v(:,:), a(:,:), v1(:,:), un1(:,:), v2(:,:), un2(:,:)
+    real(dp), parameter :: dt = 0.0137_dp
+    integer :: i, ierr
+    allocate(u, v, a, v1, un1, v2, un2, mold=kf)
+    do i = 1, size(kf, 2)
+      u(:, i) = [cos(0.31_dp*i), sin(2.1_dp*i)]
+      v(:, i) = [sin(0.17_dp*i*i), cos(1.9_dp*i) - 0.3_dp]
+    end do
+    call t%true(mass_steps_fused(op), label//': one rank folds the updates into the solve')
+    call mass_solve(op, dom, -kf, a, ierr)
+    v1 = v + dt*a
+    un1 = u + dt*v1
+    v2 = v
+    un2 = 0.0_dp
+    call mass_step(op, kf, dt, u, v2, un2)
+    call t%true(all(v1 == v2) .and. all(un1 == un2), label//': the fused step gives the '// &
+        'bits of the solve and the updates')
+  end subroutine check_fused
 end program test_kronecker_mass
