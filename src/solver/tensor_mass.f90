@@ -88,6 +88,9 @@ module ictus_solver_tensor_mass
   type :: cond_t
     type(band_t) :: sv
     real(dp), allocatable :: ab(:), pl(:), pr(:)
+    !> The entries themselves, per bubble e (contiguous, for the Schur products): A_BB(e),
+    !! and its couplings cl(e), cr(e) to its left and right vertex.
+    real(dp), allocatable :: abb(:), cl(:), cr(:)
   end type cond_t
 
   !> One component of one block: the fixed lines of each direction (fix1, fix2; rows1 lists
@@ -114,14 +117,17 @@ module ictus_solver_tensor_mass
   !! and the work arrays of a solve: the lattice z(:, :, c) of each component, the B x B
   !! values r and the Schur work t (direction 2) and tv (direction 1) of Q8, and a ring of
   !! columns (Q8: the last loads of a forward block, the last back-substituted vertex
-  !! columns) and a block zb of bubble columns (their indices jb).
+  !! columns), a block zb of bubble columns (their indices jb) and the work lt of
+  !! `lines_solve`.
   type :: tblock_t
     integer :: kind = TENSOR_DIRECT
     integer :: n(2) = 0
     integer :: ne(2) = 0
     integer, allocatable :: node(:,:), kfirst(:)
+    !> The columns in the boxes of the point corrections (stored once those are known).
+    logical, allocatable :: defer(:)
     type(comp_t) :: c(2)
-    real(dp), allocatable :: z(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:)
+    real(dp), allocatable :: z(:,:,:), r(:,:,:), t(:,:), tv(:,:), ring(:,:), zb(:,:), lt(:,:)
     integer, allocatable :: jb(:)
     !> One column of nodal values on its way out of `store` (2, n(1)).
     real(dp), allocatable :: xc(:,:)
@@ -505,7 +511,7 @@ contains
         end if
         ! the lattice arrays in huge pages (streamed every step, read by columns)
         call alloc_stream(b%z, n1, n2, 2, 0.0_dp)
-        allocate(b%xc(2, n1), source=0.0_dp)
+        allocate(b%xc(2, n1), b%lt(col_block, n1), source=0.0_dp)
         if (b%kind == TENSOR_SERENDIPITY) then
           call alloc_stream(b%tv, b%ne(1) + 1, b%ne(2), 0.0_dp)
           allocate(b%ring(n1, 2), b%zb(n1, col_block), b%jb(col_block))
@@ -519,8 +525,15 @@ contains
             return
           end if
         end do
-        ! the plain columns again, now that the fixed points are known
+        ! the plain columns again, now that the fixed points are known, and the columns
+        ! of the point corrections
         call find_runs(b)
+        allocate(b%defer(n2), source=.false.)
+        do c = 1, 2
+          do k = 1, b%c(c)%npts
+            b%defer(b%c(c)%box(3, k):b%c(c)%box(4, k)) = .true.
+          end do
+        end do
       end associate
     end do
     ! the proof: M v solved back to v for two pseudo-random v on the solved dofs
@@ -782,8 +795,11 @@ contains
     integer :: e, v, ne
     ! entry A(i, j), i >= j, is m%a(i - j, i)
     ne = (m%n - 1)/2
-    allocate(q%ab(ne), q%pl(ne), q%pr(ne))
+    allocate(q%ab(ne), q%pl(ne), q%pr(ne), q%abb(ne), q%cl(ne), q%cr(ne))
     do e = 1, ne
+      q%abb(e) = m%a(0, 2*e)
+      q%cl(e) = m%a(1, 2*e)
+      q%cr(e) = m%a(1, 2*e + 1)
       q%ab(e) = 1.0_dp/m%a(0, 2*e)
       q%pl(e) = m%a(1, 2*e)*q%ab(e)
       q%pr(e) = m%a(1, 2*e + 1)*q%ab(e)
@@ -992,8 +1008,7 @@ contains
       x(:, tm%outside(k)) = 0.0_dp
     end do
     do ib = 1, tm%nblocks
-      call base_solve(tm%b(ib), 1, 2, f)
-      call store(tm%b(ib), x)
+      call solve_block(tm%b(ib), f, x=x)
     end do
   end subroutine tensor_mass_solve
 
@@ -1012,10 +1027,26 @@ contains
       u_next(:, l) = u(:, l) + dt*v(:, l)
     end do
     do ib = 1, tm%nblocks
-      call base_solve(tm%b(ib), 1, 2, kf)
-      call store(tm%b(ib), dt=dt, u=u, v=v, u_next=u_next)
+      call solve_block(tm%b(ib), kf, dt=dt, u=u, v=v, u_next=u_next)
     end do
   end subroutine tensor_mass_step
+
+  !> The solve of one block for the loads f, stored into x or (with dt) folded into the
+  !! step (`emit_column`); a Q8 block stores each column as its last pass finishes it.
+  subroutine solve_block(b, f, x, dt, u, v, u_next)
+    type(tblock_t), intent(inout) :: b
+    real(dp), intent(in) :: f(2, *)
+    real(dp), intent(inout), optional :: x(2, *)
+    real(dp), intent(in), optional :: dt, u(2, *)
+    real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
+    if (b%kind == TENSOR_DIRECT) then
+      call base_solve(b, 1, 2, f)
+      call store(b, x, dt, u, v, u_next)
+    else
+      call q8_front(b, 1, 2, f)
+      call q8_backward_store(b, x, dt, u, v, u_next)
+    end if
+  end subroutine solve_block
 
   !> b%z(:, :, c1:c2) <- the solve of those components without the point correction, for
   !! the nodal loads f (both components: c1 = 1, c2 = 2) or for a unit load at lattice point
@@ -1027,23 +1058,32 @@ contains
     integer, intent(in) :: c1, c2
     real(dp), intent(in), optional :: f(2, *)
     integer, intent(in), optional :: unit(2)
-    integer :: c
     if (b%kind == TENSOR_DIRECT) then
       call forward(b, c1, c2, f, unit)
       call backward(b, c1, c2)
       return
     end if
-    ! mu = (G1^-1 (x) G2^-1) (S g)_BB; z = S (g - E mu); g = (H1^T (x) H2^T) f, gathered
-    ! again in the second forward pass
+    call q8_front(b, c1, c2, f, unit)
+    call q8_backward(b, c1, c2)
+  end subroutine base_solve
+
+  !> A Q8 solve up to its last back substitution: mu = (G1^-1 (x) G2^-1) (S g)_BB, then
+  !! S (g - E mu) eliminated forward along direction 2 (g = (H1^T (x) H2^T) f, gathered
+  !! again in the second forward pass).
+  subroutine q8_front(b, c1, c2, f, unit)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c1, c2
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    integer :: c
     call q8_forward(b, c1, c2, .false., f, unit)
     call q8_back_pick(b, c1, c2)
     do c = c1, c2
-      call schur_dim1(b%c(c)%m(1), b%c(c)%v(1), b%r(:, :, c), b%tv)
-      call schur_dim2(b%c(c)%m(2), b%c(c)%v(2), b%r(:, :, c), b%t)
+      call schur_dim1(b%c(c)%q(1), b%c(c)%v(1), b%r(:, :, c), b%tv, b%lt)
+      call schur_dim2(b%c(c)%q(2), b%c(c)%v(2), b%r(:, :, c), b%t)
     end do
     call q8_forward(b, c1, c2, .true., f, unit)
-    call q8_backward(b, c1, c2)
-  end subroutine base_solve
+  end subroutine q8_front
 
   !> Column j of a unit load at lattice point `unit` (the responses of the fixed points).
   pure subroutine unit_column(j, col, unit)
@@ -1209,7 +1249,7 @@ contains
           end if
         end do
         do c = c1, c2
-          call lines_solve(b%c(c)%m(1), z(:, j0:j1, c))
+          call lines_solve(b%c(c)%m(1), z(:, j0:j1, c), b%lt)
           associate (m2 => b%c(c)%m(2))
             do j = j0, j1
               l0 = m2%l(0, j)
@@ -1233,46 +1273,49 @@ contains
   !> x(i, :) <- A^-1 applied along i (A of order m%n) to every column of x (at most
   !! col_block) at once: one recurrence whose lanes are the columns. For half bandwidths 1
   !! and 2 the last values stay in registers (a chain through memory would cost a
-  !! store-to-load round trip per step); wider bands take the plain loops.
-  subroutine lines_solve(m, x)
+  !! store-to-load round trip per step), and the forward sweep writes its results to the
+  !! work lt(col_block, m%n) with the lanes side by side, which the backward sweep reads:
+  !! one strided gather and one strided store per value instead of two each; wider bands
+  !! take the plain loops.
+  subroutine lines_solve(m, x, lt)
     type(band_t), intent(in) :: m
-    real(dp), intent(inout) :: x(:,:)
+    real(dp), intent(inout) :: x(:,:), lt(:,:)
     real(dp) :: y(col_block), y1(col_block), y2(col_block)
     integer :: n, i, k, nb
     n = m%n
     nb = size(x, 2)
     if (m%kd == 2 .and. n >= 2) then
       y2(1:nb) = x(1, :)*m%l(0, 1)
-      x(1, :) = y2(1:nb)
+      lt(1:nb, 1) = y2(1:nb)
       y1(1:nb) = (x(2, :) - m%l(1, 2)*y2(1:nb))*m%l(0, 2)
-      x(2, :) = y1(1:nb)
+      lt(1:nb, 2) = y1(1:nb)
       do i = 3, n
         y(1:nb) = ((x(i, :) - m%l(2, i)*y2(1:nb)) - m%l(1, i)*y1(1:nb))*m%l(0, i)
-        x(i, :) = y(1:nb)
+        lt(1:nb, i) = y(1:nb)
         y2(1:nb) = y1(1:nb)
         y1(1:nb) = y(1:nb)
       end do
-      y2(1:nb) = x(n, :)*m%l(0, n)
+      y2(1:nb) = lt(1:nb, n)*m%l(0, n)
       x(n, :) = y2(1:nb)
-      y1(1:nb) = (x(n - 1, :) - m%l(1, n)*y2(1:nb))*m%l(0, n - 1)
+      y1(1:nb) = (lt(1:nb, n - 1) - m%l(1, n)*y2(1:nb))*m%l(0, n - 1)
       x(n - 1, :) = y1(1:nb)
       do i = n - 2, 1, -1
-        y(1:nb) = ((x(i, :) - m%l(2, i + 2)*y2(1:nb)) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
+        y(1:nb) = ((lt(1:nb, i) - m%l(2, i + 2)*y2(1:nb)) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
         x(i, :) = y(1:nb)
         y2(1:nb) = y1(1:nb)
         y1(1:nb) = y(1:nb)
       end do
     else if (m%kd == 1) then
       y1(1:nb) = x(1, :)*m%l(0, 1)
-      x(1, :) = y1(1:nb)
+      lt(1:nb, 1) = y1(1:nb)
       do i = 2, n
         y1(1:nb) = (x(i, :) - m%l(1, i)*y1(1:nb))*m%l(0, i)
-        x(i, :) = y1(1:nb)
+        lt(1:nb, i) = y1(1:nb)
       end do
-      y1(1:nb) = x(n, :)*m%l(0, n)
+      y1(1:nb) = lt(1:nb, n)*m%l(0, n)
       x(n, :) = y1(1:nb)
       do i = n - 1, 1, -1
-        y1(1:nb) = (x(i, :) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
+        y1(1:nb) = (lt(1:nb, i) - m%l(1, i + 1)*y1(1:nb))*m%l(0, i)
         x(i, :) = y1(1:nb)
       end do
     else
@@ -1374,7 +1417,7 @@ contains
                 z(2*i, j, c) = z(2*i, j, c) - b%r(i, j/2, c)
               end do
             end do
-            call q8_lines(b%c(c)%q(1), z(:, j0:j1, c))
+            call q8_lines(b%c(c)%q(1), z(:, j0:j1, c), b%lt)
           end do
         end if
         do c = c1, c2
@@ -1413,14 +1456,14 @@ contains
   !> The condensed solve along direction 1 of every column of x (at most col_block): each
   !! column condensed on its vertex rows, the vertex rows solved together (`lines_solve`
   !! with the tridiagonal factor), the bubble rows expanded.
-  subroutine q8_lines(q, x)
+  subroutine q8_lines(q, x, lt)
     type(cond_t), intent(in) :: q
-    real(dp), intent(inout) :: x(:,:)
+    real(dp), intent(inout) :: x(:,:), lt(:,:)
     integer :: j
     do j = 1, size(x, 2)
       call q8_condense(q, x(:, j))
     end do
-    call lines_solve(q%sv, x(1::2, :))
+    call lines_solve(q%sv, x(1::2, :), lt)
     do j = 1, size(x, 2)
       call q8_expand(q, x(:, j))
     end do
@@ -1431,25 +1474,49 @@ contains
   pure subroutine q8_condense(q, y)
     type(cond_t), intent(in) :: q
     real(dp), intent(inout) :: y(:)
-    integer :: v, nv
-    nv = q%sv%n
-    if (nv > 1) y(1) = y(1) - q%pl(1)*y(2)
-    do v = 2, nv - 1
-      y(2*v - 1) = (y(2*v - 1) - q%pr(v - 1)*y(2*v - 2)) - q%pl(v)*y(2*v)
-    end do
-    y(2*nv - 1) = y(2*nv - 1) - q%pr(nv - 1)*y(2*nv - 2)
+    call condense_line(q%sv%n, q%pl, q%pr, y)
   end subroutine q8_condense
+
+  !> q8_condense on a line of nv vertices (explicit shapes: a loop the compiler vectorises;
+  !! each bubble value is written back unchanged next to its vertex, so that the stores
+  !! are contiguous).
+  pure subroutine condense_line(nv, pl, pr, y)
+    integer, intent(in) :: nv
+    real(dp), intent(in) :: pl(nv - 1), pr(nv - 1)
+    real(dp), intent(inout) :: y(2*nv - 1)
+    real(dp) :: b
+    integer :: v
+    y(1) = y(1) - pl(1)*y(2)
+    do v = 2, nv - 1
+      b = y(2*v - 2)
+      y(2*v - 1) = (y(2*v - 1) - pr(v - 1)*b) - pl(v)*y(2*v)
+      y(2*v - 2) = b
+    end do
+    y(2*nv - 1) = y(2*nv - 1) - pr(nv - 1)*y(2*nv - 2)
+  end subroutine condense_line
 
   !> x(2e) <- ab(e) y(2e) - pl(e) x(2e-1) - pr(e) x(2e+1): the bubbles from the solved
   !! vertices.
   pure subroutine q8_expand(q, x)
     type(cond_t), intent(in) :: q
     real(dp), intent(inout) :: x(:)
-    integer :: e
-    do e = 1, size(q%ab)
-      x(2*e) = (q%ab(e)*x(2*e) - q%pl(e)*x(2*e - 1)) - q%pr(e)*x(2*e + 1)
-    end do
+    call expand_line(size(q%ab), q%ab, q%pl, q%pr, x)
   end subroutine q8_expand
+
+  !> q8_expand on a line of ne bubbles (explicit shapes; the vertex values written back
+  !! unchanged next to their bubbles, as in condense_line).
+  pure subroutine expand_line(ne, ab, pl, pr, x)
+    integer, intent(in) :: ne
+    real(dp), intent(in) :: ab(ne), pl(ne), pr(ne)
+    real(dp), intent(inout) :: x(2*ne + 1)
+    real(dp) :: a
+    integer :: e
+    do e = 1, ne
+      a = x(2*e - 1)
+      x(2*e) = (ab(e)*x(2*e) - pl(e)*a) - pr(e)*x(2*e + 1)
+      x(2*e - 1) = a
+    end do
+  end subroutine expand_line
 
   !> The backward pass of the first Q8 solve, which only needs its B x B values: the vertex
   !! columns back-substituted along direction 2 into a ring of two columns (z is not
@@ -1477,7 +1544,7 @@ contains
               do q = 1, nb
                 call q8_condense(b%c(c)%q(1), b%zb(:, q))
               end do
-              call lines_solve(b%c(c)%q(1)%sv, b%zb(1::2, 1:nb))
+              call lines_solve(b%c(c)%q(1)%sv, b%zb(1::2, 1:nb), b%lt)
               associate (q1 => b%c(c)%q(1))
                 do q = 1, nb
                   do i = 1, b%ne(1)
@@ -1502,41 +1569,82 @@ contains
   subroutine q8_backward(b, c1, c2)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
-    integer :: j, c, v, n1, n2, i
-    n1 = b%n(1)
-    n2 = b%n(2)
+    integer :: j, c
     do c = c1, c2
-      associate (q2 => b%c(c)%q(2), z => b%z(:, :, c))
-        z(:, n2) = z(:, n2)*q2%sv%l(0, (n2 + 1)/2)
-        do j = n2 - 2, 1, -2
-          v = (j + 1)/2
-          z(:, j) = (z(:, j) - q2%sv%l(1, v + 1)*z(:, j + 2))*q2%sv%l(0, v)
-          do i = 1, n1, 2
-            z(i, j + 1) = (q2%ab(v)*z(i, j + 1) - q2%pl(v)*z(i, j)) - q2%pr(v)*z(i, j + 2)
-          end do
-        end do
-      end associate
+      call q8_back_column(b, c, b%n(2))
+    end do
+    do j = b%n(2) - 2, 1, -2
+      do c = c1, c2
+        call q8_back_column(b, c, j)
+      end do
     end do
   end subroutine q8_backward
 
-  !> x(:, node) for every node of the block: the nodal values of z (for Q8 the change from
-  !! the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each direction;
-  !! no node reads a B x B value), minus the point correction sum_p beta_p w_p with
-  !! beta = H^-1 u(pts), per component. With `dt` (and u, v, u_next) x is not stored but
-  !! taken as the solve for -f and folded into the step: v <- v - dt x, u_next <- u + dt v,
-  !! node by node (the same operations, so the same bits, as a = x(-f), v = v + dt a,
-  !! u_next = u + dt v). One column at a time through b%xc, which holds the column's nodes
-  !! in lattice order (for an even Q8 column its odd points); a plain column (b%kfirst) is
-  !! written as one range of nodes.
+  !> Vertex column j of component c back-substituted along direction 2 and the even column
+  !! after it expanded at its nodes (odd rows), in b%z.
+  subroutine q8_back_column(b, c, j)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: c, j
+    integer :: v, i
+    v = (j + 1)/2
+    associate (q2 => b%c(c)%q(2), z => b%z(:, :, c))
+      if (j == b%n(2)) then
+        z(:, j) = z(:, j)*q2%sv%l(0, v)
+        return
+      end if
+      z(:, j) = (z(:, j) - q2%sv%l(1, v + 1)*z(:, j + 2))*q2%sv%l(0, v)
+      do i = 1, b%n(1), 2
+        z(i, j + 1) = (q2%ab(v)*z(i, j + 1) - q2%pl(v)*z(i, j)) - q2%pr(v)*z(i, j + 2)
+      end do
+    end associate
+  end subroutine q8_back_column
+
+  !> `q8_backward` with the store (`emit_column`) of each column as soon as it is final,
+  !! while it is in the cache; the columns in the boxes of the point corrections (b%defer)
+  !! go out at the end, once the corrections are known.
+  subroutine q8_backward_store(b, x, dt, u, v, u_next)
+    type(tblock_t), intent(inout) :: b
+    real(dp), intent(inout), optional :: x(2, *)
+    real(dp), intent(in), optional :: dt, u(2, *)
+    real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
+    integer :: j, c, n2
+    n2 = b%n(2)
+    do c = 1, 2
+      call q8_back_column(b, c, n2)
+    end do
+    if (.not. b%defer(n2)) call emit_column(b, n2, x, dt, u, v, u_next)
+    do j = n2 - 2, 1, -2
+      do c = 1, 2
+        call q8_back_column(b, c, j)
+      end do
+      if (.not. b%defer(j + 1)) call emit_column(b, j + 1, x, dt, u, v, u_next)
+      if (.not. b%defer(j)) call emit_column(b, j, x, dt, u, v, u_next)
+    end do
+    call point_betas(b)
+    do j = 1, n2
+      if (b%defer(j)) call emit_column(b, j, x, dt, u, v, u_next)
+    end do
+  end subroutine q8_backward_store
+
+  !> x(:, node) for every node of the block from the solve in b%z, or (with dt) the updates
+  !! of the fused step: `emit_column` for every column, once the point corrections are known.
   subroutine store(b, x, dt, u, v, u_next)
     type(tblock_t), intent(inout) :: b
     real(dp), intent(inout), optional :: x(2, *)
     real(dp), intent(in), optional :: dt, u(2, *)
     real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
-    integer :: i, j, p, n1, n2, c, k, m, nm, k0
-    logical :: centres
-    n1 = b%n(1)
-    n2 = b%n(2)
+    integer :: j
+    call point_betas(b)
+    do j = 1, b%n(2)
+      call emit_column(b, j, x, dt, u, v, u_next)
+    end do
+  end subroutine store
+
+  !> The coefficients beta = H^-1 u(pts) of the point corrections, per component, from the
+  !! solve in b%z.
+  subroutine point_betas(b)
+    type(tblock_t), intent(inout) :: b
+    integer :: c, p
     do c = 1, 2
       associate (cp => b%c(c))
         do p = 1, cp%npts
@@ -1545,71 +1653,117 @@ contains
         if (cp%npts > 0) call small_solve(cp%npts, cp%h, cp%beta)
       end associate
     end do
-    do j = 1, n2
-      centres = b%kind == TENSOR_SERENDIPITY .and. mod(j, 2) == 0
-      nm = n1
-      associate (z => b%z, xc => b%xc)
-        if (b%kind == TENSOR_DIRECT) then
-          do i = 1, n1
-            xc(1, i) = z(i, j, 1)
-            xc(2, i) = z(i, j, 2)
+  end subroutine point_betas
+
+  !> Column j of the solve in b%z out to its nodes: the nodal values (for Q8 the change
+  !! from the hierarchical basis, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2 along each
+  !! direction; no node reads a B x B value), minus the point correction sum_p beta_p w_p
+  !! (b%c(:)%beta known when the column lies in a box, b%defer), into x(:, node); or with
+  !! `dt` (and u, v, u_next) taken as the solve for -f and folded into the step:
+  !! v <- v - dt x, u_next <- u + dt v, node by node (the same operations, so the same bits,
+  !! as a = x(-f), v = v + dt a, u_next = u + dt v). Through b%xc, which holds the column's
+  !! nodes in lattice order (for an even Q8 column its odd points); a plain column
+  !! (b%kfirst) is written as one range of nodes.
+  subroutine emit_column(b, j, x, dt, u, v, u_next)
+    type(tblock_t), intent(inout) :: b
+    integer, intent(in) :: j
+    real(dp), intent(inout), optional :: x(2, *)
+    real(dp), intent(in), optional :: dt, u(2, *)
+    real(dp), intent(inout), optional :: v(2, *), u_next(2, *)
+    integer :: i, p, n1, c, k, m, nm, k0
+    logical :: centres
+    n1 = b%n(1)
+    centres = b%kind == TENSOR_SERENDIPITY .and. mod(j, 2) == 0
+    nm = n1
+    if (b%kind == TENSOR_DIRECT) then
+      call nodal_direct(n1, b%z(:, j, 1), b%z(:, j, 2), b%xc)
+    else if (.not. centres) then
+      call nodal_q8(n1, b%z(:, j, 1), b%z(:, j, 2), b%xc)
+    else
+      nm = (n1 + 1)/2
+      call nodal_q8_centres(n1, b%z(:, j - 1:j + 1, 1), b%z(:, j - 1:j + 1, 2), b%xc)
+    end if
+    ! the point corrections, in the boxes of their responses (cp%w is 0 at Q8 centres)
+    do c = 1, 2
+      associate (cp => b%c(c))
+        do p = 1, cp%npts
+          if (j < cp%box(3, p) .or. j > cp%box(4, p)) cycle
+          do i = cp%box(1, p), cp%box(2, p)
+            if (b%node(i, j) == 0) cycle
+            m = merge((i + 1)/2, i, centres)
+            b%xc(c, m) = b%xc(c, m) - cp%beta(p)*cp%w(i, j, p)
           end do
-        else if (.not. centres) then
-          xc(1, 1) = z(1, j, 1)
-          xc(2, 1) = z(1, j, 2)
-          do i = 2, n1 - 1, 2
-            xc(1, i) = z(i, j, 1) + 0.5_dp*(z(i - 1, j, 1) + z(i + 1, j, 1))
-            xc(2, i) = z(i, j, 2) + 0.5_dp*(z(i - 1, j, 2) + z(i + 1, j, 2))
-            xc(1, i + 1) = z(i + 1, j, 1)
-            xc(2, i + 1) = z(i + 1, j, 2)
-          end do
-        else
-          nm = (n1 + 1)/2
-          do m = 1, nm
-            xc(1, m) = z(2*m - 1, j, 1) + 0.5_dp*(z(2*m - 1, j - 1, 1) + z(2*m - 1, j + 1, 1))
-            xc(2, m) = z(2*m - 1, j, 2) + 0.5_dp*(z(2*m - 1, j - 1, 2) + z(2*m - 1, j + 1, 2))
-          end do
-        end if
-      end associate
-      ! the point corrections, in the boxes of their responses (cp%w is 0 at Q8 centres)
-      do c = 1, 2
-        associate (cp => b%c(c))
-          do p = 1, cp%npts
-            if (j < cp%box(3, p) .or. j > cp%box(4, p)) cycle
-            do i = cp%box(1, p), cp%box(2, p)
-              if (b%node(i, j) == 0) cycle
-              m = merge((i + 1)/2, i, centres)
-              b%xc(c, m) = b%xc(c, m) - cp%beta(p)*cp%w(i, j, p)
-            end do
-          end do
-          do p = 1, cp%npts
-            if (cp%pts(2, p) == j) b%xc(c, merge((cp%pts(1, p) + 1)/2, cp%pts(1, p), &
-                centres)) = 0.0_dp
-          end do
-        end associate
-      end do
-      k0 = b%kfirst(j)
-      if (k0 > 0 .and. present(dt)) then
-        call step_run(2*nm, b%xc, dt, u(1, k0), v(1, k0), u_next(1, k0))
-      else if (k0 > 0) then
-        x(:, k0:k0 + nm - 1) = b%xc(:, 1:nm)
-      else
-        do m = 1, nm
-          k = b%node(merge(2*m - 1, m, centres), j)
-          if (k == 0) cycle
-          if (present(dt)) then
-            v(1, k) = v(1, k) - dt*b%xc(1, m)
-            v(2, k) = v(2, k) - dt*b%xc(2, m)
-            u_next(1, k) = u(1, k) + dt*v(1, k)
-            u_next(2, k) = u(2, k) + dt*v(2, k)
-          else
-            x(1, k) = b%xc(1, m)
-            x(2, k) = b%xc(2, m)
-          end if
         end do
-      end if
+        do p = 1, cp%npts
+          if (cp%pts(2, p) == j) b%xc(c, merge((cp%pts(1, p) + 1)/2, cp%pts(1, p), &
+              centres)) = 0.0_dp
+        end do
+      end associate
     end do
-  end subroutine store
+    k0 = b%kfirst(j)
+    if (k0 > 0 .and. present(dt)) then
+      call step_run(2*nm, b%xc, dt, u(1, k0), v(1, k0), u_next(1, k0))
+    else if (k0 > 0) then
+      x(:, k0:k0 + nm - 1) = b%xc(:, 1:nm)
+    else
+      do m = 1, nm
+        k = b%node(merge(2*m - 1, m, centres), j)
+        if (k == 0) cycle
+        if (present(dt)) then
+          v(1, k) = v(1, k) - dt*b%xc(1, m)
+          v(2, k) = v(2, k) - dt*b%xc(2, m)
+          u_next(1, k) = u(1, k) + dt*v(1, k)
+          u_next(2, k) = u(2, k) + dt*v(2, k)
+        else
+          x(1, k) = b%xc(1, m)
+          x(2, k) = b%xc(2, m)
+        end if
+      end do
+    end if
+  end subroutine emit_column
+
+  !> The nodal values of a lattice column of a direct block, both components side by side:
+  !! xc(:, i) = (z1(i), z2(i)).
+  pure subroutine nodal_direct(n, z1, z2, xc)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: z1(n), z2(n)
+    real(dp), intent(out) :: xc(2, n)
+    integer :: i
+    do i = 1, n
+      xc(1, i) = z1(i)
+      xc(2, i) = z2(i)
+    end do
+  end subroutine nodal_direct
+
+  !> The same for an odd column of a Q8 block: the hierarchical coefficients changed to nodal
+  !! values along the column, u(2e) = z(2e) + (z(2e-1) + z(2e+1))/2.
+  pure subroutine nodal_q8(n, z1, z2, xc)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: z1(n), z2(n)
+    real(dp), intent(out) :: xc(2, n)
+    integer :: i
+    xc(1, 1) = z1(1)
+    xc(2, 1) = z2(1)
+    do i = 2, n - 1, 2
+      xc(1, i) = z1(i) + 0.5_dp*(z1(i - 1) + z1(i + 1))
+      xc(2, i) = z2(i) + 0.5_dp*(z2(i - 1) + z2(i + 1))
+      xc(1, i + 1) = z1(i + 1)
+      xc(2, i + 1) = z2(i + 1)
+    end do
+  end subroutine nodal_q8
+
+  !> The same for an even column of a Q8 block (z1, z2: the column with its neighbours):
+  !! nodes at its odd points, u = z + (z_left + z_right)/2, into xc(:, 1:(n + 1)/2).
+  pure subroutine nodal_q8_centres(n, z1, z2, xc)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: z1(n, 3), z2(n, 3)
+    real(dp), intent(out) :: xc(2, *)
+    integer :: m
+    do m = 1, (n + 1)/2
+      xc(1, m) = z1(2*m - 1, 2) + 0.5_dp*(z1(2*m - 1, 1) + z1(2*m - 1, 3))
+      xc(2, m) = z2(2*m - 1, 2) + 0.5_dp*(z2(2*m - 1, 1) + z2(2*m - 1, 3))
+    end do
+  end subroutine nodal_q8_centres
 
   !> The updates of the fused step on a range of n values (the pairs of consecutive nodes):
   !! v <- v - dt x, u_next <- u + dt v.
@@ -1638,56 +1792,72 @@ contains
   end function nodal_value
 
   !> r(:, j) <- (A_BB - A_BV A_VV^-1 A_VB) r(:, j) for every column j: the inverse of
-  !! (A^-1)_BB along direction 1 (bubble e at index 2e, vertex v at 2v - 1). w(ne + 1, :)
+  !! (A^-1)_BB along direction 1 (q: the entries of A, v: the factor of A_VV). w(ne + 1, :)
   !! takes A_VB r column by column, the tridiagonal solves run col_block columns at a time
-  !! (`lines_solve`), and r is updated column by column.
-  subroutine schur_dim1(m, v, r, w)
-    type(band_t), intent(in) :: m, v
-    real(dp), intent(inout) :: r(:,:)
-    real(dp), intent(inout) :: w(:,:)
-    integer :: ne, j0, j1, j, e, k
+  !! (`lines_solve`, work lt), and r is updated column by column.
+  subroutine schur_dim1(q, v, r, w, lt)
+    type(cond_t), intent(in) :: q
+    type(band_t), intent(in) :: v
+    real(dp), intent(inout) :: r(:,:), w(:,:), lt(:,:)
+    integer :: ne, j0, j1, j
     ne = size(r, 1)
     do j0 = 1, size(r, 2), col_block
       j1 = min(j0 + col_block - 1, size(r, 2))
-      ! w = A_VB r: vertex k touches bubbles k - 1 and k
+      ! w = A_VB r: vertex k touches bubbles k - 1 (its right vertex) and k (its left)
       do j = j0, j1
-        w(1, j) = m%a(1, 2)*r(1, j)
-        do k = 2, ne
-          w(k, j) = m%a(1, 2*k - 1)*r(k - 1, j) + m%a(1, 2*k)*r(k, j)
-        end do
-        w(ne + 1, j) = m%a(1, 2*ne + 1)*r(ne, j)
+        call vertex_load(ne, q%cl, q%cr, r(:, j), w(:, j))
       end do
-      call lines_solve(v, w(:, j0:j1))
+      call lines_solve(v, w(:, j0:j1), lt)
       do j = j0, j1
-        do e = 1, ne
-          r(e, j) = m%a(0, 2*e)*r(e, j) - m%a(1, 2*e)*w(e, j) - m%a(1, 2*e + 1)*w(e + 1, j)
-        end do
+        call schur_update(ne, q%abb, q%cl, q%cr, w(:, j), r(:, j))
       end do
     end do
   end subroutine schur_dim1
 
-  !> The same along direction 2, for all rows at once (w holds ne(2) + 1 vertex columns).
-  subroutine schur_dim2(m, v, r, w)
-    type(band_t), intent(in) :: m, v
+  !> w = A_VB r along one line of ne bubbles: vertex k touches bubbles k - 1 (its right
+  !! vertex, cr) and k (its left, cl).
+  pure subroutine vertex_load(ne, cl, cr, r, w)
+    integer, intent(in) :: ne
+    real(dp), intent(in) :: cl(ne), cr(ne), r(ne)
+    real(dp), intent(out) :: w(ne + 1)
+    integer :: k
+    w(1) = cl(1)*r(1)
+    do k = 2, ne
+      w(k) = cr(k - 1)*r(k - 1) + cl(k)*r(k)
+    end do
+    w(ne + 1) = cr(ne)*r(ne)
+  end subroutine vertex_load
+
+  !> r <- A_BB r - A_BV w along one line (w = A_VV^-1 A_VB r).
+  pure subroutine schur_update(ne, abb, cl, cr, w, r)
+    integer, intent(in) :: ne
+    real(dp), intent(in) :: abb(ne), cl(ne), cr(ne), w(ne + 1)
+    real(dp), intent(inout) :: r(ne)
+    integer :: e
+    do e = 1, ne
+      r(e) = abb(e)*r(e) - cl(e)*w(e) - cr(e)*w(e + 1)
+    end do
+  end subroutine schur_update
+
+  !> The same along direction 2, for all rows at once (w holds ne(2) + 1 vertex columns):
+  !! A_VB r with the forward elimination in one sweep, the back substitution with the update
+  !! of r in the other.
+  subroutine schur_dim2(q, v, r, w)
+    type(cond_t), intent(in) :: q
+    type(band_t), intent(in) :: v
     real(dp), intent(inout) :: r(:,:)
     real(dp), intent(inout) :: w(:,:)
-    integer :: ne, e, k
+    integer :: ne, k
     ne = size(r, 2)
-    do k = 1, ne + 1
-      w(:, k) = 0.0_dp
-      if (k > 1) w(:, k) = w(:, k) + m%a(1, 2*k - 1)*r(:, k - 1)
-      if (k <= ne) w(:, k) = w(:, k) + m%a(1, 2*k)*r(:, k)
+    w(:, 1) = (q%cl(1)*r(:, 1))*v%l(0, 1)
+    do k = 2, ne
+      w(:, k) = ((q%cr(k - 1)*r(:, k - 1) + q%cl(k)*r(:, k)) - v%l(1, k)*w(:, k - 1))*v%l(0, k)
     end do
-    do k = 1, ne + 1
-      if (k > 1) w(:, k) = w(:, k) - v%l(1, k)*w(:, k - 1)
-      w(:, k) = w(:, k)*v%l(0, k)
-    end do
-    do k = ne + 1, 1, -1
-      if (k <= ne) w(:, k) = w(:, k) - v%l(1, k + 1)*w(:, k + 1)
-      w(:, k) = w(:, k)*v%l(0, k)
-    end do
-    do e = 1, ne
-      r(:, e) = m%a(0, 2*e)*r(:, e) - m%a(1, 2*e)*w(:, e) - m%a(1, 2*e + 1)*w(:, e + 1)
+    w(:, ne + 1) = (q%cr(ne)*r(:, ne) - v%l(1, ne + 1)*w(:, ne))*v%l(0, ne + 1)
+    w(:, ne + 1) = w(:, ne + 1)*v%l(0, ne + 1)
+    do k = ne, 1, -1
+      w(:, k) = (w(:, k) - v%l(1, k + 1)*w(:, k + 1))*v%l(0, k)
+      r(:, k) = q%abb(k)*r(:, k) - q%cl(k)*w(:, k) - q%cr(k)*w(:, k + 1)
     end do
   end subroutine schur_dim2
 
