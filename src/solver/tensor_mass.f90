@@ -1371,61 +1371,159 @@ contains
   !> The forward pass of a Q8 Kronecker solve, col_block columns at a time (col_block is
   !! even, so a block ends on an even column and each of its odd columns has both
   !! neighbours loaded): the nodal loads (or the unit load) of each column changed to the
-  !! hierarchical basis along direction 1; the odd (vertex) columns along direction 2
-  !! (g = (H1^T (x) H2^T) f, the fixed lines set to 0); with `second`, g - E mu, solved
-  !! along direction 1; then the vertex columns condensed and eliminated along direction 2
-  !! (`q8_vertex_forward`). The even columns keep their values. b%ring(:, c) carries the last
-  !! even column of a block's loads to the next block.
+  !! hierarchical basis along direction 1 (`gather_pair`); the odd (vertex) columns along
+  !! direction 2 (g = (H1^T (x) H2^T) f, the fixed lines set to 0); then the vertex columns
+  !! condensed and eliminated along direction 2. The even columns keep their values. First
+  !! solve: each vertex column in one pass (`q8_first_vertex`). Second (`second`): g - E mu,
+  !! solved along direction 1 block by block before direction 2 (`q8_vertex_forward`);
+  !! b%ring(:, c) carries the last even column of a block's loads to the next block.
   subroutine q8_forward(b, c1, c2, second, f, unit)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
     logical, intent(in) :: second
     real(dp), intent(in), optional :: f(2, *)
     integer, intent(in), optional :: unit(2)
-    integer :: j0, j1, j, n2, c, i
+    integer :: j0, j1, j, n2, c
     n2 = b%n(2)
     associate (z => b%z)
       do j0 = 1, n2, col_block
         j1 = min(j0 + col_block - 1, n2)
-        ! loads, changed to the hierarchical basis along direction 1 (`gather_pair`)
         do j = j0, j1
-          if (present(unit)) then
-            do c = c1, c2
-              call unit_column(j, z(:, j, c), unit)
-              call hier_column(z(:, j, c))
-              call zero_lines(b%c(c), j, z(:, j, c))
-            end do
-          else
-            call gather_pair(b, j, z(:, j, 1), z(:, j, 2), f)
-          end if
+          call load_column(b, j, c1, c2, z(:, j, 1), z(:, j, 2), f, unit)
         end do
-        ! and along direction 2: each vertex column takes half the loads of its neighbours
         do c = c1, c2
-          associate (prev => b%ring(:, c))
+          if (.not. second) then
             do j = j0, j1, 2
-              if (j > 1) z(:, j, c) = z(:, j, c) + 0.5_dp*prev
-              if (j < n2) z(:, j, c) = z(:, j, c) + 0.5_dp*z(:, j + 1, c)
-              if (b%c(c)%fix2(j)) z(:, j, c) = 0.0_dp
-              if (j < n2) prev = z(:, j + 1, c)
+              call q8_first_vertex(b, c, j, z(:, :, c))
             end do
-          end associate
-        end do
-        if (second) then
-          do c = c1, c2
-            do j = j0 + 1, j1, 2
-              do i = 1, b%ne(1)
-                z(2*i, j, c) = z(2*i, j, c) - b%r(i, j/2, c)
-              end do
-            end do
-            call q8_lines(b%c(c)%q(1), z(:, j0:j1, c), b%lt)
+            cycle
+          end if
+          do j = j0, j1, 2
+            if (j == j0 .and. j > 1) then
+              call vertex_hier(b, c, j, z(:, :, c), b%ring(:, c))
+            else if (j > 1) then
+              call vertex_hier(b, c, j, z(:, :, c), z(:, j - 1, c))
+            else
+              call vertex_hier(b, c, j, z(:, :, c), z(:, j, c))
+            end if
           end do
-        end if
-        do c = c1, c2
+          if (j1 < n2) b%ring(:, c) = z(:, j1, c)
+          do j = j0 + 1, j1, 2
+            call subtract_centres(b%ne(1), b%r(:, j/2, c), z(:, j, c))
+          end do
+          call q8_lines(b%c(c)%q(1), z(:, j0:j1, c), b%lt)
           call q8_vertex_forward(b%c(c)%q(2), z(:, :, c), j0, j1)
         end do
       end do
     end associate
   end subroutine q8_forward
+
+  !> The loads of column j, changed to the hierarchical basis along it, into col1, col2 (the
+  !! components c1..c2 of a unit load at lattice point `unit`, or both components of f).
+  subroutine load_column(b, j, c1, c2, col1, col2, f, unit)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: j, c1, c2
+    real(dp), intent(out) :: col1(:), col2(:)
+    real(dp), intent(in), optional :: f(2, *)
+    integer, intent(in), optional :: unit(2)
+    if (.not. present(unit)) then
+      call gather_pair(b, j, col1, col2, f)
+      return
+    end if
+    if (c1 == 1) then
+      call unit_column(j, col1, unit)
+      call hier_column(col1)
+      call zero_lines(b%c(1), j, col1)
+    end if
+    if (c2 == 2) then
+      call unit_column(j, col2, unit)
+      call hier_column(col2)
+      call zero_lines(b%c(2), j, col2)
+    end if
+  end subroutine load_column
+
+  !> Vertex column j of component c changed to the hierarchical basis along direction 2:
+  !! z(:, j) + (gl + z(:, j + 1))/2 with gl the loads of the even column before it (both
+  !! neighbours changed along direction 1 only), 0 on a fixed column.
+  subroutine vertex_hier(b, c, j, z, gl)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: c, j
+    real(dp), intent(inout) :: z(:,:)
+    real(dp), intent(in) :: gl(:)
+    integer :: n1, n2
+    n1 = b%n(1)
+    n2 = b%n(2)
+    if (b%c(c)%fix2(j)) then
+      z(:, j) = 0.0_dp
+    else if (j > 1 .and. j < n2) then
+      call add_halves(n1, z(:, j), gl, z(:, j + 1))
+    else if (j > 1) then
+      z(:, j) = z(:, j) + 0.5_dp*gl
+    else
+      z(:, j) = z(:, j) + 0.5_dp*z(:, j + 1)
+    end if
+  end subroutine vertex_hier
+
+  !> y <- (y + a/2) + b/2.
+  pure subroutine add_halves(n, y, a, b)
+    integer, intent(in) :: n
+    real(dp), intent(inout) :: y(n)
+    real(dp), intent(in) :: a(n), b(n)
+    integer :: i
+    do i = 1, n
+      y(i) = (y(i) + 0.5_dp*a(i)) + 0.5_dp*b(i)
+    end do
+  end subroutine add_halves
+
+  !> The loads at the element centres of an even column less E mu: y(2i) <- y(2i) - mu(i).
+  pure subroutine subtract_centres(ne, mu, y)
+    integer, intent(in) :: ne
+    real(dp), intent(in) :: mu(ne)
+    real(dp), intent(inout) :: y(2*ne + 1)
+    integer :: i
+    do i = 1, ne
+      y(2*i) = y(2*i) - mu(i)
+    end do
+  end subroutine subtract_centres
+
+  !> Vertex column j of component c in the first forward pass, in one pass over it: changed
+  !! to the hierarchical basis along direction 2 (`vertex_hier`), condensed and eliminated
+  !! (the operations of `q8_vertex_forward`). Its neighbours hold their loads (changed along
+  !! direction 1 only), as this pass leaves the even columns.
+  subroutine q8_first_vertex(b, c, j, z)
+    type(tblock_t), intent(in) :: b
+    integer, intent(in) :: c, j
+    real(dp), intent(inout) :: z(:,:)
+    integer :: v, n2
+    n2 = b%n(2)
+    v = (j + 1)/2
+    associate (q => b%c(c)%q(2))
+      if (b%c(c)%fix2(j)) then
+        z(:, j) = 0.0_dp
+      else if (j > 1 .and. j < n2) then
+        call first_vertex_run(b%n(1), q%pr(v - 1), q%pl(v), q%sv%l(1, v), q%sv%l(0, v), &
+            z(:, j - 1), z(:, j + 1), z(:, j - 2), z(:, j))
+      else if (j == 1) then
+        z(:, j) = z(:, j) + 0.5_dp*z(:, j + 1)
+        z(:, j) = (z(:, j) - q%pl(v)*z(:, j + 1))*q%sv%l(0, v)
+      else
+        z(:, j) = z(:, j) + 0.5_dp*z(:, j - 1)
+        z(:, j) = ((z(:, j) - q%pr(v - 1)*z(:, j - 1)) - q%sv%l(1, v)*z(:, j - 2))*q%sv%l(0, v)
+      end if
+    end associate
+  end subroutine q8_first_vertex
+
+  !> An interior vertex column of the first forward pass: y <- ((((y + gl/2) + gr/2) -
+  !! pr gl) - pl gr - l1 y2) l0 (y2: the vertex column before, eliminated).
+  pure subroutine first_vertex_run(n, pr, pl, l1, l0, gl, gr, y2, y)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: pr, pl, l1, l0, gl(n), gr(n), y2(n)
+    real(dp), intent(inout) :: y(n)
+    integer :: i
+    do i = 1, n
+      y(i) = ((((y(i) + 0.5_dp*gl(i)) + 0.5_dp*gr(i)) - pr*gl(i)) - pl*gr(i) - l1*y2(i))*l0
+    end do
+  end subroutine first_vertex_run
 
   !> Direction 2, forward, on the vertex columns j0, j0 + 2, .., j1 of z (j0 odd): condensed
   !! (y_v -= pr(v-1) z_(bubble v-1) + pl(v) z_(bubble v)) and eliminated with the factor of
@@ -1525,7 +1623,7 @@ contains
   subroutine q8_back_pick(b, c1, c2)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c1, c2
-    integer :: j, c, nb, v, n2, s, e, q, i
+    integer :: j, c, nb, v, n2, s, q, i
     n2 = b%n(2)
     do c = c1, c2
       associate (q2 => b%c(c)%q(2), z => b%z(:, :, c), ring => b%ring)
@@ -1534,10 +1632,9 @@ contains
           v = (j + 1)/2
           s = mod(v, 2) + 1
           if (j < n2) then
-            ring(:, s) = (z(:, j) - q2%sv%l(1, v + 1)*ring(:, 3 - s))*q2%sv%l(0, v)
-            e = v
             nb = nb + 1
-            b%zb(:, nb) = (q2%ab(e)*z(:, j + 1) - q2%pl(e)*ring(:, s)) - q2%pr(e)*ring(:, 3 - s)
+            call back_pick_run(b%n(1), q2%sv%l(1, v + 1), q2%sv%l(0, v), q2%ab(v), q2%pl(v), &
+                q2%pr(v), z(:, j), z(:, j + 1), ring(:, 3 - s), ring(:, s), b%zb(:, nb))
             b%jb(nb) = j + 1
             if (nb == col_block .or. j == 1) then
               ! direction 1 on these columns, bubble rows into r
@@ -1563,6 +1660,20 @@ contains
     end do
   end subroutine q8_back_pick
 
+  !> One step of `q8_back_pick` in one pass: the vertex column x = (y - l1 xr) l0 from its
+  !! eliminated loads y and the vertex column after it (xr), and the even column between
+  !! them expanded, zb = (ab g - pl x) - pr xr.
+  pure subroutine back_pick_run(n, l1, l0, ab, pl, pr, y, g, xr, x, zb)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: l1, l0, ab, pl, pr, y(n), g(n), xr(n)
+    real(dp), intent(out) :: x(n), zb(n)
+    integer :: i
+    do i = 1, n
+      x(i) = (y(i) - l1*xr(i))*l0
+      zb(i) = (ab*g(i) - pl*x(i)) - pr*xr(i)
+    end do
+  end subroutine back_pick_run
+
   !> The backward pass of the second Q8 solve: the vertex columns back-substituted along
   !! direction 2, each even column expanded from its neighbours at its nodes (odd rows; the
   !! centres are not needed).
@@ -1585,19 +1696,34 @@ contains
   subroutine q8_back_column(b, c, j)
     type(tblock_t), intent(inout) :: b
     integer, intent(in) :: c, j
-    integer :: v, i
+    integer :: v
     v = (j + 1)/2
     associate (q2 => b%c(c)%q(2), z => b%z(:, :, c))
       if (j == b%n(2)) then
         z(:, j) = z(:, j)*q2%sv%l(0, v)
         return
       end if
-      z(:, j) = (z(:, j) - q2%sv%l(1, v + 1)*z(:, j + 2))*q2%sv%l(0, v)
-      do i = 1, b%n(1), 2
-        z(i, j + 1) = (q2%ab(v)*z(i, j + 1) - q2%pl(v)*z(i, j)) - q2%pr(v)*z(i, j + 2)
-      end do
+      call back_run(b%n(1), q2%sv%l(1, v + 1), q2%sv%l(0, v), q2%ab(v), q2%pl(v), q2%pr(v), &
+          z(:, j + 2), z(:, j), z(:, j + 1))
     end associate
   end subroutine q8_back_column
+
+  !> One step of the Q8 back substitution in one pass: the vertex column x <- (x - l1 xr) l0
+  !! (xr: the vertex column after it), and at the odd points of the even column between
+  !! them g <- (ab g - pl x) - pr xr.
+  pure subroutine back_run(n, l1, l0, ab, pl, pr, xr, x, g)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: l1, l0, ab, pl, pr, xr(n)
+    real(dp), intent(inout) :: x(n), g(n)
+    integer :: i
+    do i = 1, n - 1, 2
+      x(i) = (x(i) - l1*xr(i))*l0
+      x(i + 1) = (x(i + 1) - l1*xr(i + 1))*l0
+      g(i) = (ab*g(i) - pl*x(i)) - pr*xr(i)
+    end do
+    x(n) = (x(n) - l1*xr(n))*l0
+    g(n) = (ab*g(n) - pl*x(n)) - pr*xr(n)
+  end subroutine back_run
 
   !> `q8_backward` with the store (`emit_column`) of each column as soon as it is final,
   !! while it is in the cache; the columns in the boxes of the point corrections (b%defer)
