@@ -19,9 +19,11 @@
 !! (MASS_SOLVER_*: 2 Cholesky, 4 Kronecker, ...; 0 for a lumped mass), sweep the steps per
 !! pass over K on the run's path (1: single steps), sweep_plan the steps of a planned sweep
 !! (1: none), t_sweep the step in sweeps (0 without a plan), tune_sweep and tune_single the
-!! step in the best window of each kind that SWEEP STEPS=AUTO timed (0 when it did not), dt
-!! the step used. The time step is the deck's
-!! dt, or for dt = 0 the automatic one (0.9 * 2/omega_max) as in a run. The motion starts from
+!! step in the best window of each kind that SWEEP STEPS=AUTO timed (0 when it did not),
+!! sweep_kib the KiB of K the strips of the kept plan hold between a row's first and last step
+!! (0 without sweeps), tune_wide the step in the best window of wide-strip sweeps (0 when
+!! not timed), dt the step used. The time step is the deck's dt, or for dt = 0 the automatic
+!! one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
   use, intrinsic :: iso_fortran_env, only: output_unit
@@ -184,7 +186,8 @@ program ictus_bench
     end do
   end if
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),a,i0)') &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
+      '2(a,i0),a,es11.5)') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
@@ -194,7 +197,9 @@ program ictus_bench
       merge(s%sweep%nstage, 1, s%sweeps), ' t_sweep=', t_sweep, ' tune_sweep=', &
       merge(s%tune_time(1)/max(1, s%sweep%nstage), 0.0_dp, tuned), ' tune_single=', &
       merge(s%tune_time(2)/max(1, s%sweep%nstage), 0.0_dp, tuned), &
-      ' mass_solver=', merge(mop%solver, 0, ops%consistent)
+      ' mass_solver=', merge(mop%solver, 0, ops%consistent), ' sweep_kib=', &
+      merge(s%sweep_bytes/1024, 0, s%sweeps), ' tune_wide=', &
+      merge(s%tune_time(3)/max(1, s%sweep%nstage), 0.0_dp, tuned .and. s%has_wide)
   call env_finalize()
 
 contains

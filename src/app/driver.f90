@@ -324,7 +324,7 @@ contains
     logical, allocatable :: was_active(:)
     logical :: record, field, ok, stop_now, tuning
     type(checkpoint_t) :: ck
-    character(len=:), allocatable :: ckpt, deck_text, msg
+    character(len=:), allocatable :: ckpt, deck_text, msg, wmsg
     integer :: n_start, n_first, n_last
     integer :: k
     logical, allocatable :: sync(:)
@@ -388,6 +388,7 @@ contains
     if (s%sweeps) then
       msg = ''
       if (s%tuning) msg = '; timed against single steps first'
+      if (s%tuning .and. s%has_wide) msg = msg//' and against wide strips'
       call log_info('sweeps: '//str(s%sweep%nstage)//' steps per sweep over K between '// &
           'outputs ('//str(s%sweep%strip)//' strips; '//str(s%sweep%zone_rows(1))// &
           ' rows of '//str(dom%nowned)//' stepped one step at a time)'//msg)
@@ -405,9 +406,15 @@ contains
         if (tuning .and. .not. s%tuning) then
           msg = 'dropped: single steps are faster'
           if (s%kept) msg = 'kept: faster than single steps'
+          if (s%kept .and. s%has_wide) msg = msg//', strips of '// &
+              str(s%sweep_bytes/1024)//' KiB of K'
+          wmsg = ''
+          if (s%has_wide) wmsg = ', '//str(1.0e3_dp*s%tune_time(3), 3)//' ms in one sweep '// &
+              'of wide strips'
           call log_info('sweeps: '//msg//' here (a window of '//str(s%sweep%nstage)// &
               ' steps in the best trial of each: '//str(1.0e3_dp*s%tune_time(1), 3)// &
-              ' ms in one sweep, '//str(1.0e3_dp*s%tune_time(2), 3)//' ms one step at a time)')
+              ' ms in one sweep, '//str(1.0e3_dp*s%tune_time(2), 3)//' ms one step at a '// &
+              'time'//wmsg//')')
         end if
       else
         n_last = n

@@ -32,21 +32,27 @@ module ictus_solver_explicit
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, mass_step, &
       mass_steps_fused
   use ictus_solver_domain, only: domain_t
-  use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows
+  use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows, sweep_move
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, state_plan_sweep, &
-      step_sweep, step_window, between_steps, SWEEP_TUNE_ROUNDS, SWEEP_AUTO_STEPS
+      step_sweep, step_window, between_steps, SWEEP_TUNE_ROUNDS, SWEEP_AUTO_STEPS, &
+      tune_kinds
 
   !> Bytes of K the rows of a sweep may hold between a row's first and last stage: what stays
-  !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7).
+  !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7). With
+  !! SWEEP STEPS=AUTO a second plan with SWEEP_WIDE_BYTES is timed too: where the last-level
+  !! cache serves a wider band of rows much faster than memory (a 32 MiB L3 next to a 2 MiB
+  !! L2: 1.2-1.3 x faster sweeps, §3.7) it wins, elsewhere it loses and is dropped.
   integer, parameter :: SWEEP_CACHE_BYTES = 786432
+  integer, parameter :: SWEEP_WIDE_BYTES = 4194304
 
-  !> Trials of each kind before a run settles on sweeps or single steps (SWEEP STEPS=AUTO),
-  !! and windows per trial: the first window of a trial warms up, the others are timed, and
-  !! the best trial of each kind is compared. (Single windows between the other kind's
-  !! mislead: on a mesh whose K sits in the L3 cache they showed sweeps as fast as single
-  !! steps, which were 1.5 x faster run after run.)
+  !> Trials of each kind before a run settles on sweeps (of the plan with SWEEP_CACHE_BYTES or
+  !! the one with SWEEP_WIDE_BYTES) or single steps (SWEEP STEPS=AUTO), and windows per trial:
+  !! the first window of a trial warms up, the others are timed, and the best trial of each
+  !! kind is compared. (Single windows between the other kind's mislead: on a mesh whose K
+  !! sits in the L3 cache they showed sweeps as fast as single steps, which were 1.5 x faster
+  !! run after run.)
   integer, parameter :: SWEEP_TUNE_ROUNDS = 3, SWEEP_TUNE_WINDOWS = 4
   !> Steps per sweep with SWEEP STEPS=AUTO (the best on both hosts measured, §3.7).
   integer, parameter :: SWEEP_AUTO_STEPS = 6
@@ -88,19 +94,24 @@ module ictus_solver_explicit
     !! current step took that path (then step_finish swaps it in).
     real(dp), allocatable :: u_next(:,:)
     logical :: fused = .false.
-    !> The plan of `step_sweep` (sweep%nstage steps per sweep), when sweeps are possible.
+    !> The plan of `step_sweep` (sweep%nstage steps per sweep), when sweeps are possible, and
+    !! the bytes of K its strips hold between a row's first and last stage.
     type(sweep_t) :: sweep
     logical :: sweeps = .false.
+    integer :: sweep_bytes = 0
     !> Whether windows of sweep%nstage steps without output run as one sweep (`kept`) or as
     !! single steps. With SWEEP STEPS=AUTO (`tuning`), the first windows run as trials of
-    !! SWEEP_TUNE_WINDOWS windows each, alternating between the two kinds, timed
-    !! (`tune_acc`; `tune_time`: best seconds per window of a trial, sweep and single, the
-    !! slowest rank's), and the faster is kept. Both give the same bits.
+    !! SWEEP_TUNE_WINDOWS windows each, cycling through the kinds (single steps, sweeps, and
+    !! where its strips differ sweeps of the wide plan `sweep_wide`), timed (`tune_acc`;
+    !! `tune_time`: best seconds per window of a trial of each kind, the slowest rank's), and
+    !! the fastest is kept (the wide plan then becomes `sweep`). All give the same bits.
     logical :: kept = .true.
     logical :: tuning = .false.
+    type(sweep_t) :: sweep_wide
+    logical :: has_wide = .false.
     integer :: tune_count = 0
     real(dp) :: tune_acc = 0.0_dp
-    real(dp) :: tune_time(2) = huge(1.0_dp)
+    real(dp) :: tune_time(3) = huge(1.0_dp)
   end type state_t
 
 contains
@@ -217,10 +228,10 @@ contains
   end subroutine step_finish
 
   !> Plans sweeps of nstage steps for an undamped lumped-mass state (otherwise, or for
-  !! nstage = 1, s%sweeps stays false). nstage = 0 (SWEEP STEPS=AUTO) plans SWEEP_AUTO_STEPS
-  !! and lets step_window time the sweeps against single steps before it keeps one of them.
-  !! x(2, nowned): coordinates of the owned nodes (the strips follow them); sync(nowned):
-  !! nodes touched between steps (contact nodes).
+  !! nstage = 1, s%sweeps stays false). nstage = 0 (SWEEP STEPS=AUTO) plans SWEEP_AUTO_STEPS,
+  !! also with the wide budget, and lets step_window time the sweeps against single steps
+  !! before it keeps one of them. x(2, nowned): coordinates of the owned nodes (the strips
+  !! follow them); sync(nowned): nodes touched between steps (contact nodes).
   subroutine state_plan_sweep(s, k, mop, dom, x, sync, nstage)
     type(state_t), intent(inout) :: s
     type(bsr_t), intent(in) :: k
@@ -231,11 +242,12 @@ contains
     integer, intent(in) :: nstage
     logical, allocatable :: touched(:)
     real(dp) :: row_bytes
-    integer :: window, i, ns
+    integer :: window, wide, i, ns
     ns = merge(SWEEP_AUTO_STEPS, nstage, nstage == 0)
     s%sweeps = ns > 1 .and. .not. (mop%consistent .or. s%damped) .and. s%nn > 0
     s%kept = s%sweeps
     s%tuning = s%sweeps .and. nstage == 0
+    s%has_wide = .false.
     s%tune_count = 0
     s%tune_acc = 0.0_dp
     s%tune_time = huge(1.0_dp)
@@ -249,23 +261,65 @@ contains
       touched(dom%halo%send_idx(i)) = .true.
     end do
     call sweep_plan(s%sweep, k%g, ns, window, x, touched)
+    s%sweep_bytes = SWEEP_CACHE_BYTES
+    if (.not. s%tuning) return
+    ! the wide plan, where its strips are fewer (on every rank alike: the count of trials
+    ! must agree)
+    wide = max(32, int(real(SWEEP_WIDE_BYTES, dp)/(real(ns - 1, dp)*row_bytes)))
+    call sweep_plan(s%sweep_wide, k%g, ns, wide, x, touched)
+    s%has_wide = s%sweep_wide%strip < s%sweep%strip
+    call allreduce_max_logical(s%has_wide)
   end subroutine state_plan_sweep
+
+  !> The number of kinds the tuning of SWEEP STEPS=AUTO times: single steps and sweeps, and
+  !! the wide sweeps where planned.
+  pure integer function tune_kinds(s)
+    type(state_t), intent(in) :: s
+    tune_kinds = merge(3, 2, s%has_wide)
+  end function tune_kinds
+
+  !> l <- l on any rank.
+  subroutine allreduce_max_logical(l)
+    logical, intent(inout) :: l
+    real(dp) :: t
+    t = merge(1.0_dp, 0.0_dp, l)
+    call allreduce_max(t)
+    l = t > 0.5_dp
+  end subroutine allreduce_max_logical
 
   !> s%sweep%nstage undamped lumped-mass steps without output in one sweep over K: for each
   !! step, the zone rows (ghost neighbours, contact nodes and the rows around them), then
   !! `between` (the contact correction), the halo exchange and the swap of u and u_next, as
   !! in step_predict + step_finish; then all steps on the other rows. The same bits as that
   !! many single steps. Needs s%sweeps.
-  subroutine step_sweep(s, k, mop, dom, between)
+  subroutine step_sweep(s, k, mop, dom, between, wide)
     type(state_t), intent(inout) :: s
+    type(bsr_t), intent(in) :: k
+    type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(inout) :: dom
+    procedure(between_steps) :: between
+    logical, intent(in), optional :: wide
+    if (present(wide)) then
+      if (wide) then
+        call sweep_steps(s, s%sweep_wide, k, mop, dom, between)
+        return
+      end if
+    end if
+    call sweep_steps(s, s%sweep, k, mop, dom, between)
+  end subroutine step_sweep
+
+  !> step_sweep with the plan sw (s%sweep or s%sweep_wide, which it does not change).
+  subroutine sweep_steps(s, sw, k, mop, dom, between)
+    type(state_t), intent(inout) :: s
+    type(sweep_t), intent(in) :: sw
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(in) :: mop
     type(domain_t), intent(inout) :: dom
     procedure(between_steps) :: between
     real(dp), allocatable :: swap(:,:)
     integer :: st
-    do st = 1, s%sweep%nstage
-      call sweep_zone_stage(s%sweep, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+    do st = 1, sw%nstage
+      call sweep_zone_stage(sw, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
           s%v, s%u_next)
       s%fused = .true.
       call between()
@@ -277,21 +331,21 @@ contains
       s%t = s%t + s%dt
     end do
     ! the arrays of stage 0 (a) and stage 1 (b): after an even number of swaps s%u is a
-    if (mod(s%sweep%nstage, 2) == 0) then
-      call sweep_rows(s%sweep, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+    if (mod(sw%nstage, 2) == 0) then
+      call sweep_rows(sw, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
           s%u_next, s%v)
     else
-      call sweep_rows(s%sweep, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u_next, &
+      call sweep_rows(sw, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u_next, &
           s%u, s%v)
     end if
-  end subroutine step_sweep
+  end subroutine sweep_steps
 
   !> s%sweep%nstage undamped lumped-mass steps without output (needs s%sweeps): one sweep,
   !! or single steps (step_predict, `between`, step_finish) when the tuning chose them. While
-  !! s%tuning, the windows go in trials of SWEEP_TUNE_WINDOWS, alternating between single
-  !! steps and sweeps; after SWEEP_TUNE_ROUNDS trials of each, the best trials (the slowest
-  !! rank's times, so every rank decides the same) decide s%kept. Only the speed depends on
-  !! the choice: the bits are the same.
+  !! s%tuning, the windows go in trials of SWEEP_TUNE_WINDOWS, cycling through the kinds
+  !! (single steps, sweeps, wide sweeps where planned); after SWEEP_TUNE_ROUNDS trials of
+  !! each, the best trials (the slowest rank's times, so every rank decides the same) decide
+  !! s%kept and the plan. Only the speed depends on the choice: the bits are the same.
   subroutine step_window(s, k, mop, dom, between)
     type(state_t), intent(inout) :: s
     type(bsr_t), intent(in) :: k
@@ -299,24 +353,28 @@ contains
     type(domain_t), intent(inout) :: dom
     procedure(between_steps) :: between
     real(dp) :: t0, t
-    integer :: mode, j, w
+    integer :: mode, j, w, nk
+    integer, parameter :: order(3) = [2, 1, 3]
+    type(sweep_t) :: unused
     w = 0
+    nk = tune_kinds(s)
     if (.not. s%tuning) then
       mode = merge(1, 2, s%kept)
     else
-      ! trials of single steps first; w = window in the trial (0: warm-up, not timed)
-      mode = 2 - mod(s%tune_count/SWEEP_TUNE_WINDOWS, 2)
+      ! trials of single steps first, then sweeps, then wide sweeps; w = window in the trial
+      ! (0: warm-up, not timed)
+      mode = order(mod(s%tune_count/SWEEP_TUNE_WINDOWS, nk) + 1)
       w = mod(s%tune_count, SWEEP_TUNE_WINDOWS)
     end if
     t0 = wall_time()
-    if (mode == 1) then
-      call step_sweep(s, k, mop, dom, between)
-    else
+    if (mode == 2) then
       do j = 1, s%sweep%nstage
         call step_predict(s, k, mop, dom, .false.)
         call between()
         call step_finish(s, dom)
       end do
+    else
+      call step_sweep(s, k, mop, dom, between, wide=mode == 3)
     end if
     if (.not. s%tuning) return
     if (w > 0) s%tune_acc = s%tune_acc + (wall_time() - t0)
@@ -327,9 +385,17 @@ contains
     call allreduce_max(t)
     s%tune_time(mode) = min(s%tune_time(mode), t)
     s%tune_acc = 0.0_dp
-    if (s%tune_count < 2*SWEEP_TUNE_ROUNDS*SWEEP_TUNE_WINDOWS) return
+    if (s%tune_count < nk*SWEEP_TUNE_ROUNDS*SWEEP_TUNE_WINDOWS) return
     s%tuning = .false.
-    s%kept = s%tune_time(1) <= s%tune_time(2)
+    mode = minloc(s%tune_time(1:nk), 1)
+    s%kept = mode /= 2
+    if (mode == 3) then
+      call sweep_move(s%sweep_wide, s%sweep)
+      s%sweep_bytes = SWEEP_WIDE_BYTES
+    else
+      ! the wide plan is not needed any more
+      call sweep_move(s%sweep_wide, unused)
+    end if
   end subroutine step_window
 
   !> Kinetic energy 1/2 v·M v with v at t_n, strain energy 1/2 u_n·K u_n = -1/2 u_n·f,

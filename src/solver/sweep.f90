@@ -30,7 +30,7 @@ module ictus_solver_sweep
   use ictus_solver_sparse, only: graph_t, fused_lumped_rows
   implicit none
   private
-  public :: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows, MAX_STAGES
+  public :: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows, sweep_move, MAX_STAGES
 
   !> Most stages a sweep can have.
   integer, parameter :: MAX_STAGES = 8
@@ -53,6 +53,23 @@ module ictus_solver_sweep
   end type sweep_t
 
 contains
+
+  !> to <- from without a copy (the arrays move; from is left empty).
+  subroutine sweep_move(from, to)
+    type(sweep_t), intent(inout) :: from, to
+    to%nstage = from%nstage
+    to%nslot = from%nslot
+    to%n = from%n
+    to%w = from%w
+    to%strip = from%strip
+    call move_alloc(from%run_lo, to%run_lo)
+    call move_alloc(from%run_len, to%run_len)
+    call move_alloc(from%run_ptr, to%run_ptr)
+    call move_alloc(from%zone_lo, to%zone_lo)
+    call move_alloc(from%zone_len, to%zone_len)
+    call move_alloc(from%zone_ptr, to%zone_ptr)
+    call move_alloc(from%zone_rows, to%zone_rows)
+  end subroutine sweep_move
 
   !> Plans sweeps of `nstage` steps over the n owned rows of graph g (columns > n are ghosts).
   !! sync(n) marks the rows that take part in the correction between steps; rows with a ghost

@@ -20,7 +20,8 @@ over K (ictus_solver_sweep: zones around the partition boundaries and the contac
 singly): they must give the same bits on any number of ranks, and the same bits as the run
 with SWEEP STEPS=1 (one step per pass over K) and as the runs on 1 and 2 ranks with the
 default SWEEP STEPS=AUTO, whose first windows alternate between sweeps and single steps
-before the faster is kept (the log must say which).
+before the faster is kept (the log must say which); on the long strip q4_long_sweep AUTO on
+one rank also times the plan of wide strips (the log must say so).
 """
 import os
 import sys
@@ -87,6 +88,15 @@ def q8_contact_deck():
             + FUSED_STEP.replace("0, 1.5", "0, 0.3"))
 
 
+def long_deck():
+    """A long Q4 strip (600 x 4 elements), lumped, recording every 25 steps: wide enough in
+    the numbering direction for sweeps of two strips (and one wide strip)."""
+    return ("*HEADING\nparallel determinism, long strip\n" + vcheck.material_block()
+            + vcheck.rect_mesh(type="Q4", nx=600, ny=4, lx=60.0, ly=0.4)
+            + "*BOUNDARY\nLEFT, 1, 2\n*INITIAL CONDITIONS, TYPE=VELOCITY\nBODY, 2, -1.0\n"
+            + "TOP, 1, 0.5\n*MASS, TYPE=ROW SUM\n" + SWEEP_STEP.replace("0, 1.5", "0, 1.2"))
+
+
 def compare(chk, tag, ref, other, n):
     a, b = ref.f, other.f
     names = []
@@ -127,6 +137,9 @@ def main():
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
                                                              dt=2e-4, t_end=0.2), "test"),
              "q4_rowsum_sweep": fe_deck("Q4", "*MASS, TYPE=ROW SUM", step=SWEEP_STEP),
+             # lines of 601 nodes: the default strips of a sweep are two, the wide ones one,
+             # so SWEEP STEPS=AUTO times the wide plan as a third kind
+             "q4_long_sweep": long_deck(),
              "hertz_iga_hrz_sweep": hertz.deck(hertz.options(
                  kind="iga", mass="HRZ", subdivide=8, t_end=0.3, field_every=200),
                  "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n").replace(
@@ -171,6 +184,10 @@ def main():
                          ("sweeps: kept" in log or "sweeps: dropped" in log),
                          f"{tag}: SWEEP STEPS=AUTO on np = {n} times sweeps against single "
                          "steps and keeps one")
+                if tag == "q4_long_sweep" and n == 1:
+                    # (on 2 ranks each rank's rows are narrow enough for one strip)
+                    chk.true("and against wide strips" in log and "ms in one sweep of wide "
+                             "strips" in log, f"{tag}: np = {n} times the wide strips too")
                 compare(chk, f"{tag} with SWEEP STEPS=AUTO", results[1], vcheck.Results(out), n)
         if tag.startswith("hertz"):
             x = results[4].model("coordinates")
