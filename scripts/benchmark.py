@@ -196,7 +196,7 @@ def row(case, ranks, d):
             f"{int(2 * d['nodes']):d}",
             f"{int(d['steps']):d}",
             f"{ns_el(d, 't_step'):.1f}",
-            f"{int(d.get('sweep', 1))}" if planned(d) else "-",
+            per_pass(d) if planned(d) else "-",
             f"{ns_el(d, 't_single'):.1f}" if planned(d) else "-",
             f"{ns_el(d, 't_sweep'):.1f}" if planned(d) else "-",
             f"{ns_el(d, 't_kmv'):.1f}",
@@ -207,6 +207,13 @@ def row(case, ranks, d):
             f"{d['t_mass'] / d['t_kmv']:.2f}" if d["consistent"] else "-",
             f"{d['mass_iter']:.1f}" if d["mass_iter"] > 0 else "-",
             f"{1e9 * d['t_contact'] / cp:.0f}" if cp else "-"]
+
+
+def per_pass(d):
+    """Steps per pass over K on the run's path; 'w' when the sweeps kept are of wide strips
+    (SWEEP STEPS=AUTO timed them faster than the default strips)."""
+    k = int(d.get("sweep", 1))
+    return f"{k}w" if k > 1 and d.get("sweep_kib", 0) > 768 else f"{k}"
 
 
 def planned(d):
