@@ -63,8 +63,8 @@ program ictus_bench
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0, nchunk, k
-  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, dt, stream_bw, &
-      bytes_kmv, mass_iter
+  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, dt, &
+      stream_bw, bytes_kmv, mass_iter, sink
   logical, allocatable :: sync(:)
   logical :: tuned
   real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:), &
@@ -155,7 +155,7 @@ program ictus_bench
     call step_window(s, ops%k, mop, dom, between)
   end do
   call stream_alloc(stream_mb)
-  allocate(times(7, nrep), stream(nrep))
+  allocate(times(8, nrep), stream(nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
@@ -171,6 +171,9 @@ program ictus_bench
   t_update = median(times(5, :))
   t_single = median(times(6, :))
   t_sweep = median(times(7, :))
+  t_kread = median(times(8, :))
+  ! the read's sums must be used, or the compiler may drop the pass
+  if (sink /= sink) write(output_unit, '(a)') 'ictus-bench: K holds NaN'
   stream_bw = median(stream)
   ! bytes the stiffness product must move once: blocks (4 reals + a column index), row
   ! pointers, u read, f written
@@ -187,7 +190,7 @@ program ictus_bench
   end if
   if (env_is_root()) write(output_unit, &
       '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
-      '2(a,i0),a,es11.5)') &
+      '2(a,i0),2(a,es11.5))') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
@@ -199,23 +202,26 @@ program ictus_bench
       merge(s%tune_time(2)/max(1, s%sweep%nstage), 0.0_dp, tuned), &
       ' mass_solver=', merge(mop%solver, 0, ops%consistent), ' sweep_kib=', &
       merge(s%sweep_bytes/1024, 0, s%sweeps), ' tune_wide=', &
-      merge(s%tune_time(3)/max(1, s%sweep%nstage), 0.0_dp, tuned .and. s%has_wide)
+      merge(s%tune_time(3)/max(1, s%sweep%nstage), 0.0_dp, tuned .and. s%has_wide), &
+      ' t_kread=', t_kread
   call env_finalize()
 
 contains
 
   !> One set of timings, seconds per step (the slowest rank's): stiffness product, whole
   !! step on the run's path (sweeps where planned), mass solve, contact correction, separate
-  !! vector updates, whole step one step at a time, whole step in sweeps (where planned).
+  !! vector updates, whole step one step at a time, whole step in sweeps (where planned), and
+  !! one pass that only reads the arrays of K (`read_k`).
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(7)
+    real(dp), intent(out) :: t(8)
     real(dp) :: t0
     integer :: k, m, ic
     ! 1.-2c. the stiffness product alone, the whole step on the run's path (no output), the
-    ! same one step at a time, and in sweeps where planned: interleaved in nchunk chunks of
-    ! steps, so that the slow drifts of a shared host's bandwidth fall on all four alike
+    ! same one step at a time, in sweeps where planned, and the read of K alone: interleaved
+    ! in nchunk chunks of steps, so that the slow drifts of a shared host's bandwidth fall on
+    ! all five alike
     t(1:2) = 0.0_dp
-    t(6:7) = 0.0_dp
+    t(6:8) = 0.0_dp
     m = nsteps/nchunk
     do ic = 1, nchunk
       call barrier()
@@ -242,6 +248,12 @@ contains
         call sweeps(m)
         t(7) = t(7) + (wall_time() - t0)
       end if
+      call barrier()
+      t0 = wall_time()
+      do k = 1, m
+        call read_k(size(ops%k%g%col), n, ops%k%val, ops%k%g%col, ops%k%g%row_ptr, sink)
+      end do
+      t(8) = t(8) + (wall_time() - t0)
     end do
     ! 3. phases: mass solve, contact, vector updates (the unfused passes); they run on a
     ! saved state, restored afterwards, so the runs of the whole step stay a real motion
@@ -279,7 +291,7 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 7
+    do k = 1, 8
       call allreduce_max(t(k))
     end do
     t = t/nsteps
@@ -309,6 +321,32 @@ contains
   subroutine between()
     if (contact%npairs > 0) call contact_correct(cs, contact, s, mop, dom, model%x0)
   end subroutine between
+
+  !> One pass that only reads what K u reads of K: the nb blocks (4 reals each), their
+  !! column indices and the n + 1 row pointers, summed into `total` (8 lanes for the reals,
+  !! so that the pass is bound by memory, not by the additions). The rate at which one core
+  !! can stream K, measured on K's own arrays: no product that reads K can beat it.
+  subroutine read_k(nb, n, val, col, row_ptr, total)
+    integer, intent(in) :: nb, n
+    real(dp), intent(in) :: val(4*nb)
+    integer, intent(in) :: col(nb), row_ptr(n + 1)
+    real(dp), intent(out) :: total
+    real(dp) :: acc(8)
+    integer :: k, ic, m
+    acc = 0.0_dp
+    m = 8*(size(val)/8)
+    do k = 1, m, 8
+      acc = acc + val(k:k + 7)
+    end do
+    ic = 0
+    do k = 1, nb
+      ic = ic + col(k)
+    end do
+    do k = 1, n + 1
+      ic = ic + row_ptr(k)
+    end do
+    total = sum(acc) + sum(val(m + 1:)) + real(ic, dp)
+  end subroutine read_k
 
   !> Median of a few values.
   pure real(dp) function median(x)
