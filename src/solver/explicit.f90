@@ -26,7 +26,7 @@ module ictus_solver_explicit
   use ictus_core_memory, only: alloc_stream
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_parallel_env, only: allreduce_max
+  use ictus_parallel_env, only: allreduce_max, allreduce_or
   use ictus_core_timer, only: wall_time
   use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, mass_step, &
@@ -268,7 +268,7 @@ contains
     wide = max(32, int(real(SWEEP_WIDE_BYTES, dp)/(real(ns - 1, dp)*row_bytes)))
     call sweep_plan(s%sweep_wide, k%g, ns, wide, x, touched)
     s%has_wide = s%sweep_wide%strip < s%sweep%strip
-    call allreduce_max_logical(s%has_wide)
+    call allreduce_or(s%has_wide)
   end subroutine state_plan_sweep
 
   !> The number of kinds the tuning of SWEEP STEPS=AUTO times: single steps and sweeps, and
@@ -277,15 +277,6 @@ contains
     type(state_t), intent(in) :: s
     tune_kinds = merge(3, 2, s%has_wide)
   end function tune_kinds
-
-  !> l <- l on any rank.
-  subroutine allreduce_max_logical(l)
-    logical, intent(inout) :: l
-    real(dp) :: t
-    t = merge(1.0_dp, 0.0_dp, l)
-    call allreduce_max(t)
-    l = t > 0.5_dp
-  end subroutine allreduce_max_logical
 
   !> s%sweep%nstage undamped lumped-mass steps without output in one sweep over K: for each
   !! step, the zone rows (ghost neighbours, contact nodes and the rows around them), then
