@@ -18,6 +18,7 @@ build/bin/ictus-bench on each (and `mpirun -np 2` on the largest lumped meshes) 
   bandwidth of K u (bytes of the matrix and vectors it must move once / time), the STREAM
   triad bandwidth measured in the same run, and the ratios to it;
 - the targets of doc/performance.md with the measured value and a verdict.
+- warnings when the host's memory bandwidth moved during the run (host_checks).
 
 The time step is the automatic one (0.9 * 2/omega_max, computed by ictus-bench) and the
 bench starts from a rough velocity field, so a consistent-mass solve does the work it does in
@@ -344,6 +345,40 @@ def verdicts(res, np2):
     return out
 
 
+# same mesh, same K: the K u of these cases runs the same kernel on the same arrays
+SAME_K = {"q8": "q8", "q8-consistent": "q8", "q8-consistent-cg": "q8",
+          "q8-consistent-cholesky": "q8", "iga": "iga", "iga-consistent": "iga",
+          "iga-corrector": "iga", "iga-consistent-cg": "iga", "iga-consistent-cholesky": "iga"}
+STREAM_SPREAD, KU_SPREAD, NP2_STREAM = 1.15, 1.12, 1.5
+
+
+def host_checks(res, np2):
+    """Signs that the memory bandwidth of the host moved during the run (other guests of a
+    shared host use the memory without showing in this machine's load average): lines to
+    print, empty when none. Each compares figures that a steady host gives alike."""
+    out = []
+    streams = [d["stream"] for runs in res.values() for d in runs.values()]
+    if len(streams) >= 2 and max(streams) > STREAM_SPREAD * min(streams):
+        out.append(f"the np = 1 STREAM triad ranged over {min(streams) / 1e9:.1f}-"
+                   f"{max(streams) / 1e9:.1f} GB/s (more than {STREAM_SPREAD:.2f} x)")
+    groups = {}
+    for case, runs in res.items():
+        if case in SAME_K:
+            for nel, d in runs.items():
+                groups.setdefault((SAME_K[case], nel), []).append((case, d["t_kmv"] / d["nel"]))
+    for (disc, nel), ts in sorted(groups.items()):
+        lo, hi = min(ts, key=lambda x: x[1]), max(ts, key=lambda x: x[1])
+        if hi[1] > KU_SPREAD * lo[1]:
+            out.append(f"K u of the same {disc} mesh ({int(nel)} el.) took {1e9 * lo[1]:.1f} ns/el "
+                       f"in {lo[0]} and {1e9 * hi[1]:.1f} in {hi[0]} (more than {KU_SPREAD:.2f} x)")
+    for c, (d1, d2) in np2.items():
+        if d2["stream"] < NP2_STREAM * d1["stream"]:
+            out.append(f"the np = 2 STREAM triad of {c} was only {d2['stream'] / d1['stream']:.2f} x "
+                       f"the np = 1 one (below {NP2_STREAM:.1f} x: the second core shared memory "
+                       "with something else)")
+    return out
+
+
 def loadavg():
     try:
         with open("/proc/loadavg") as f:
@@ -449,6 +484,13 @@ def main():
     print("|---|---:|---|")
     for t, m, v in verdicts(res, np2):
         print(f"| {t} | {m} | {v} |")
+    checks = host_checks(res, np2)
+    if checks:
+        print()
+        print("benchmark: WARNING: the host's memory bandwidth moved during this run; the verdicts "
+              "near a threshold may fall either way (run again):")
+        for line in checks:
+            print("  - " + line)
     if args.alloc_check:
         alloc_check(args, work, cases)
     if not args.work:
