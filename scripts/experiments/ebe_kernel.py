@@ -24,9 +24,10 @@ stored entries. The program times, best of 5:
           the assembled rows do),
   gather  the products with u gathered but nothing scattered,
   scatter the products scattered, u not gathered,
-and a STREAM triad over 96 MB. Compare with the K u and K read columns of scripts/benchmark.py run in the same session. It takes alloc_stream
-(src/core/memory.f90: huge pages, as ictus's K and vectors have them) from the core library
-of an ictus build (--build-dir, default build/).
+and a STREAM triad over 96 MB. Compare with the K u and K read columns of
+scripts/benchmark.py run in the same session. It takes alloc_stream (src/core/memory.f90:
+huge pages, as ictus's K and vectors have them) from the core library of an ictus build
+(--build-dir, default build/).
 """
 import argparse
 import os
