@@ -369,13 +369,14 @@ def host_checks(res, np2):
     for (disc, nel), ts in sorted(groups.items()):
         lo, hi = min(ts, key=lambda x: x[1]), max(ts, key=lambda x: x[1])
         if hi[1] > KU_SPREAD * lo[1]:
-            out.append(f"K u of the same {disc} mesh ({int(nel)} el.) took {1e9 * lo[1]:.1f} ns/el "
-                       f"in {lo[0]} and {1e9 * hi[1]:.1f} in {hi[0]} (more than {KU_SPREAD:.2f} x)")
+            out.append(f"K u of the same {disc} mesh ({int(nel)} el.) took "
+                       f"{1e9 * lo[1]:.1f} ns/el in {lo[0]} and {1e9 * hi[1]:.1f} in {hi[0]} "
+                       f"(more than {KU_SPREAD:.2f} x)")
     for c, (d1, d2) in np2.items():
         if d2["stream"] < NP2_STREAM * d1["stream"]:
-            out.append(f"the np = 2 STREAM triad of {c} was only {d2['stream'] / d1['stream']:.2f} x "
-                       f"the np = 1 one (below {NP2_STREAM:.1f} x: the second core shared memory "
-                       "with something else)")
+            out.append(f"the np = 2 STREAM triad of {c} was only "
+                       f"{d2['stream'] / d1['stream']:.2f} x the np = 1 one (below "
+                       f"{NP2_STREAM:.1f} x: the second core shared memory with something else)")
     return out
 
 
