@@ -2,7 +2,7 @@
 """Stand-alone measurement of an element-by-element (EBE) stiffness product for Q8
 (doc/performance.md §3.3, "Element-by-element storage").
 
-    /usr/bin/python3 scripts/experiments/ebe_kernel.py [--sizes 316,1000] [--fc gfortran]
+    /usr/bin/python3 scripts/experiments/ebe_kernel.py [--sizes 316,1000] [--fc gfortran] [--avx512]
 
 K u is formed element by element from the stored element matrices instead of the assembled
 2x2-block rows: each Q8 element matrix is symmetric 16 x 16, so its upper triangle, 136
@@ -28,6 +28,10 @@ and a STREAM triad over 96 MB. Compare with the K u and K read columns of
 scripts/benchmark.py run in the same session. It takes alloc_stream (src/core/memory.f90:
 huge pages, as ictus's K and vectors have them) from the core library of an ictus build
 (--build-dir, default build/).
+
+--avx512 also builds the same product in C with AVX-512 intrinsics (gcc): u gathered 8 lanes
+at once by vgatherdpd, K u added either node by node as above or, with lanes of elements that
+share no node, by vscatterdpd. A measurement only: ictus itself is Fortran.
 """
 import argparse
 import os
@@ -204,6 +208,140 @@ contains
 end program ebe
 """
 
+PROGRAM_C = r"""
+/* The same product with AVX-512 intrinsics: u gathered by vgatherdpd, 8 lanes at once.
+   Scatter 0: K u added node by node from a stored batch (scalar, element order);
+   scatter 1: lanes of elements that share no node (each batch the even or the odd elements
+   of 16 in a row), K u added by gather, add and vscatterdpd. */
+#include <immintrin.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+#define NL 8
+static int n;
+static int vr(int j) { return j * ((2 * n + 1) + (n + 1)); }
+static int mr(int j) { return vr(j) + 2 * n + 1; }
+static double now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+static void *big(size_t bytes) { /* huge pages before the first touch, as alloc_stream */
+  size_t h = (size_t)2 << 20, m = (bytes + h - 1) / h * h;
+  void *p = aligned_alloc(h, m);
+  if (!p) { fprintf(stderr, "out of memory\n"); exit(1); }
+  madvise(p, m, MADV_HUGEPAGE);
+  memset(p, 0, m);
+  return p;
+}
+static void ku(int nb, const double *K, const int *cn, const double *u, double *y, int sc) {
+  for (int b = 0; b < nb; b++) {
+    const double *kp = K + (size_t)b * 136 * NL;
+    const int *c = cn + (size_t)b * 8 * NL;
+    __m512d ue[16], ye[16], a1, a2, kv;
+    for (int a = 0; a < 8; a++) {
+      __m256i idx = _mm256_slli_epi32(_mm256_loadu_si256((const __m256i *)(c + a * NL)), 1);
+      ue[2 * a] = _mm512_i32gather_pd(idx, u, 8);
+      ue[2 * a + 1] = _mm512_i32gather_pd(idx, u + 1, 8);
+      ye[2 * a] = _mm512_setzero_pd();
+      ye[2 * a + 1] = _mm512_setzero_pd();
+    }
+@KERNEL@
+    if (sc) {
+      for (int a = 0; a < 8; a++) {
+        __m256i idx = _mm256_slli_epi32(_mm256_loadu_si256((const __m256i *)(c + a * NL)), 1);
+        __m512d y1 = _mm512_i32gather_pd(idx, y, 8), y2 = _mm512_i32gather_pd(idx, y + 1, 8);
+        _mm512_i32scatter_pd(y, idx, _mm512_add_pd(y1, ye[2 * a]), 8);
+        _mm512_i32scatter_pd(y + 1, idx, _mm512_add_pd(y2, ye[2 * a + 1]), 8);
+      }
+    } else {
+      double t[16][NL];
+      for (int a = 0; a < 16; a++) _mm512_storeu_pd(t[a], ye[a]);
+      for (int l = 0; l < NL; l++)
+        for (int a = 0; a < 8; a++) {
+          int nd = c[a * NL + l];
+          y[2 * nd] += t[2 * a][l];
+          y[2 * nd + 1] += t[2 * a + 1][l];
+        }
+    }
+  }
+}
+int main(int argc, char **argv) {
+  n = atoi(argv[1]);
+  int steps = atoi(argv[2]), sc = atoi(argv[3]);
+  int nel = n * n, nn = vr(n) + 2 * n + 1, nb = (nel + NL - 1) / NL;
+  if (sc && n % 16) { fprintf(stderr, "scatter 1 needs n a multiple of 16\n"); return 1; }
+  double *K = big((size_t)nb * 136 * NL * 8), *u = big((size_t)2 * nn * 8);
+  double *y = big((size_t)2 * nn * 8), *yr = calloc((size_t)2 * nn, 8);
+  int *cn = big((size_t)nb * 8 * NL * 4);
+  srand(1);
+  for (int b = 0; b < nb; b++)
+    for (int l = 0; l < NL; l++) {
+      int e = sc ? (b / 2) * 16 + 2 * l + b % 2 : b * NL + l, pad = e >= nel;
+      if (pad) e = nel - 1;
+      int ex = e % n, ey = e / n;
+      int nd[8] = {vr(ey) + 2 * ex, vr(ey) + 2 * ex + 2, vr(ey + 1) + 2 * ex + 2,
+                   vr(ey + 1) + 2 * ex,
+                   vr(ey) + 2 * ex + 1, mr(ey) + ex + 1, vr(ey + 1) + 2 * ex + 1, mr(ey) + ex};
+      for (int a = 0; a < 8; a++) cn[b * 8 * NL + a * NL + l] = nd[a];
+      for (int k = 0; k < 136; k++)
+        K[((size_t)b * 136 + k) * NL + l] = pad ? 0.0 : (double)rand() / RAND_MAX;
+    }
+  for (int i = 0; i < 2 * nn; i++) u[i] = (double)rand() / RAND_MAX;
+  for (int b = 0; b < nb; b++)
+    for (int l = 0; l < NL; l++)
+      for (int j = 0, k = 0; j < 16; j++)
+        for (int i = 0; i <= j; i++, k++) {
+          double v = K[((size_t)b * 136 + k) * NL + l];
+          int ni = cn[b * 8 * NL + (i / 2) * NL + l], nj = cn[b * 8 * NL + (j / 2) * NL + l];
+          yr[2 * ni + i % 2] += v * u[2 * nj + j % 2];
+          if (i != j) yr[2 * nj + j % 2] += v * u[2 * ni + i % 2];
+        }
+  ku(nb, K, cn, u, y, sc);
+  double err = 0, mx = 0;
+  for (int i = 0; i < 2 * nn; i++) {
+    double d = y[i] > yr[i] ? y[i] - yr[i] : yr[i] - y[i];
+    if (d > err) err = d;
+    if (yr[i] > mx) mx = yr[i];
+  }
+  if (err > 1e-13 * mx) {
+    printf("ebe: the product does not match the reference (%.1e)\n", err / mx);
+    return 1;
+  }
+  double best = 1e30;
+  for (int r = 0; r < 5; r++) {
+    double t0 = now();
+    for (int s = 0; s < steps; s++) {
+      memset(y, 0, (size_t)2 * nn * 8);
+      ku(nb, K, cn, u, y, sc);
+    }
+    double t = (now() - t0) / steps;
+    if (t < best) best = t;
+  }
+  printf("EBE-AVX512 nel=%8d scatter=%d ku_ns=%7.1f err=%.1e\n", nel, sc, best / nel * 1e9,
+         err / mx);
+  return 0;
+}
+"""
+
+
+def kernel_c():
+    """kernel() in AVX-512 intrinsics, the 16 vectors of u and of K u in registers."""
+    lines, k = [], 0
+    for j in range(16):
+        lines.append(f"    a1 = _mm512_mul_pd(_mm512_load_pd(kp + {(k + j) * 8}), ue[{j}]);")
+        lines.append("    a2 = _mm512_setzero_pd();")
+        for i in range(j):
+            acc = "a1" if i % 2 == 0 else "a2"
+            lines.append(f"    kv = _mm512_load_pd(kp + {(k + i) * 8}); "
+                         f"ye[{i}] = _mm512_fmadd_pd(kv, ue[{j}], ye[{i}]); "
+                         f"{acc} = _mm512_fmadd_pd(kv, ue[{i}], {acc});")
+        lines.append(f"    ye[{j}] = _mm512_add_pd(ye[{j}], _mm512_add_pd(a1, a2));")
+        k += j + 1
+    return "\n".join(lines)
+
 
 def kernel():
     """The 16 x 16 symmetric product written out: column j of the packed upper triangle
@@ -231,6 +369,10 @@ def main():
     ap.add_argument("--build-dir", default=os.path.join(ROOT, "build"),
                     help="an ictus build: the program takes alloc_stream (huge pages) from its "
                          "core library")
+    ap.add_argument("--avx512", action="store_true",
+                    help="also the same product in C with AVX-512 intrinsics (needs gcc and a "
+                         "CPU with AVX-512)")
+    ap.add_argument("--cc", default="gcc")
     args = ap.parse_args()
     mods = os.path.join(args.build_dir, "modules", "core")
     lib = os.path.join(args.build_dir, "src", "core", "libictus_core.a")
@@ -252,6 +394,23 @@ def main():
             sys.stdout.write(p.stdout + p.stderr)
             if p.returncode != 0:
                 sys.exit(f"ebe_kernel: the program failed for n = {n}")
+        if args.avx512:
+            srcc = os.path.join(d, "ebe.c")
+            with open(srcc, "w") as f:
+                f.write(PROGRAM_C.replace("@KERNEL@", kernel_c()))
+            exec_c = os.path.join(d, "ebe_c")
+            subprocess.run([args.cc, "-O3", "-march=native", "-o", exec_c, srcc], check=True)
+            print("the same in C with AVX-512 intrinsics (u gathered by vgatherdpd); the time "
+                  "includes zeroing K u")
+            for n in (int(x) for x in args.sizes.split(",")):
+                steps = max(3, int(3.0e6 / (n * n)))
+                for sc in (0, 1):
+                    m = n if sc == 0 else n - n % 16
+                    p = subprocess.run([exec_c, str(m), str(steps), str(sc)], capture_output=True,
+                                       text=True)
+                    sys.stdout.write(p.stdout + p.stderr)
+                    if p.returncode != 0:
+                        sys.exit(f"ebe_kernel: the C program failed for n = {m}")
 
 
 if __name__ == "__main__":
