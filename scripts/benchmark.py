@@ -420,8 +420,20 @@ def main():
     ap.add_argument("--alloc-check", action="store_true",
                     help="also count the heap allocations of ictus runs of 100 and 1000 steps")
     args = ap.parse_args()
-    sizes = [int(float(s)) for s in (args.sizes or ("1e4,1e5" if args.quick else
-                                                     "1e4,1e5,1e6")).split(",")]
+    try:
+        sizes = [int(float(s)) for s in (args.sizes or ("1e4,1e5" if args.quick else
+                                                         "1e4,1e5,1e6")).split(",")]
+    except ValueError:
+        ap.error(f"--sizes: expected comma-separated element counts (e.g. 1e4,1e5), "
+                 f"got {args.sizes}")
+    if any(s < 4 for s in sizes):
+        ap.error("--sizes: at least 4 elements per mesh")
+    if args.repeat < 1:
+        ap.error(f"--repeat: expected at least 1 timing set, got {args.repeat}")
+    if args.steps < 0:
+        ap.error(f"--steps: expected a positive number of steps (0: by size), got {args.steps}")
+    if args.stream_mb < 1:
+        ap.error(f"--stream-mb: expected a positive size in MB, got {args.stream_mb}")
     cases = [c for c in args.cases.split(",") if c]
     for c in cases:
         if c not in CASES + EXTRA_CASES:

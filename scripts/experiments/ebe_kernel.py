@@ -360,6 +360,15 @@ def kernel():
     return "\n".join(lines)
 
 
+def compile_or_exit(cmd, cwd):
+    try:
+        p = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    except OSError as e:
+        sys.exit(f"ebe_kernel: cannot run {cmd[0]}: {e.strerror}")
+    if p.returncode != 0:
+        sys.exit(f"ebe_kernel: {' '.join(cmd)} failed:\n{p.stdout}{p.stderr}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -374,6 +383,14 @@ def main():
                          "CPU with AVX-512)")
     ap.add_argument("--cc", default="gcc")
     args = ap.parse_args()
+    try:
+        sizes = [int(x) for x in args.sizes.split(",")]
+    except ValueError:
+        sys.exit("ebe_kernel: --sizes: expected comma-separated integers (elements per side), "
+                 f"got {args.sizes}")
+    if any(m < 16 for m in sizes):
+        sys.exit("ebe_kernel: --sizes: at least 16 elements per side")
+    args.build_dir = os.path.abspath(args.build_dir)
     mods = os.path.join(args.build_dir, "modules", "core")
     lib = os.path.join(args.build_dir, "src", "core", "libictus_core.a")
     if not (os.path.isdir(mods) and os.path.isfile(lib)):
@@ -384,11 +401,10 @@ def main():
         with open(src, "w") as f:
             f.write(PROGRAM.replace("@KERNEL@", kernel()))
         exe = os.path.join(d, "ebe")
-        subprocess.run([args.fc] + args.flags.split() + ["-I", mods, "-o", exe, src, lib],
-                       check=True, cwd=d)
+        compile_or_exit([args.fc] + args.flags.split() + ["-I", mods, "-o", exe, src, lib], d)
         print("ns per element per product, best of 5; K u stored: 1088 B of matrix + 32 B of "
               "node numbers per element")
-        for n in (int(x) for x in args.sizes.split(",")):
+        for n in sizes:
             steps = max(3, int(3.0e6 / (n * n)))
             p = subprocess.run([exe, str(n), str(steps)], capture_output=True, text=True)
             sys.stdout.write(p.stdout + p.stderr)
@@ -399,10 +415,10 @@ def main():
             with open(srcc, "w") as f:
                 f.write(PROGRAM_C.replace("@KERNEL@", kernel_c()))
             exec_c = os.path.join(d, "ebe_c")
-            subprocess.run([args.cc, "-O3", "-march=native", "-o", exec_c, srcc], check=True)
+            compile_or_exit([args.cc, "-O3", "-march=native", "-o", exec_c, srcc], d)
             print("the same in C with AVX-512 intrinsics (u gathered by vgatherdpd); the time "
                   "includes zeroing K u")
-            for n in (int(x) for x in args.sizes.split(",")):
+            for n in sizes:
                 steps = max(3, int(3.0e6 / (n * n)))
                 for sc in (0, 1):
                     m = n if sc == 0 else n - n % 16
