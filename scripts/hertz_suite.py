@@ -6,7 +6,9 @@
         [--figures doc/figures] [--reuse]
 
 groups: paper (the paper's cases at dt = 5e-4, 8 x 8), series (refinement), static, or fig3
-(only the two runs of the paper's Fig. 3). --reuse skips runs whose results file is newer than
+(only the two runs of the paper's Fig. 3); also fig4 (the three NURBS lumpings), one (the upper
+body moving, the lower at rest), conv_q8 and conv_iga (the HRZ refinement of each
+discretisation). --reuse skips runs whose results file is newer than
 the deck. The table (markdown) is printed and, with --table, written; the figures are PNGs in
 --figures.
 """
@@ -235,7 +237,24 @@ def main():
     ap.add_argument("--figures", default=None)
     ap.add_argument("--reuse", action="store_true")
     a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
+    known = sorted({g for c in hcases.ALL for g in c.groups})
+    bad = [g for g in a.groups if g not in known]
+    if bad or not a.groups:
+        sys.exit(f"hertz_suite: --groups: expected one or more of {', '.join(known)}, got "
+                 f"{' '.join(bad) if bad else 'none'}")
+    if not (os.path.isfile(a.ictus) and os.access(a.ictus, os.X_OK)):
+        sys.exit(f"hertz_suite: --ictus: {a.ictus} is not an executable (build it with "
+                 "scripts/setup.sh, or give its path)")
+    for d in [a.out] + ([a.figures] if a.figures else []):
+        try:
+            os.makedirs(d, exist_ok=True)
+        except OSError as e:
+            sys.exit(f"hertz_suite: cannot create the directory {d}: {e.strerror}")
+    if a.table:
+        try:
+            open(a.table, "a").close()
+        except OSError as e:
+            sys.exit(f"hertz_suite: --table: cannot write {a.table}: {e.strerror}")
     want = set(a.groups)
     dyn, stat = [], []
     for c in hcases.ALL:
