@@ -27,12 +27,20 @@ Deck contents: plane strain (--plane-stress for plane stress), material E, nu, r
 (--wall PENALTY, the allowed side facing the body), and a step (--dt, 0 = automatic; --t-end;
 --field-every). --body-only writes only the body cards (patch or mesh, sets, surface).
 The first line of every full deck records the command that made it.
+
+Bad values (a radius, E, rho, penalty or t_end <= 0, nu outside (-1, 0.5), dt < 0, counts
+< 1, degree < 2, non-finite numbers, names the deck rejects, ids past 2^31 - 1) end the script
+with a one-line message and exit status 1, before anything is written.
 """
 import argparse
 import math
+import re
 import sys
 
 KNOTS_P2 = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+MAX_ID = 2**31 - 1                       # ids are default Fortran integers (deck_lexer.f90)
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_reader.f90)
+NAME_RULE = "a letter or _, then letters, digits, _, - or ., at most 64 characters"
 
 
 def table(radius):
@@ -231,6 +239,53 @@ def parser():
     return ap
 
 
+def checker(prog):
+    """check(ok, option, expected, value): unless ok, exits with status 1 and the one-line
+    message "PROG: OPTION: expected EXPECTED, got VALUE"."""
+    def check(ok, option, expected, value):
+        if not ok:
+            sys.exit(f"{prog}: {option}: expected {expected}, got {value!r}")
+    return check
+
+
+def q8_id_count(n):
+    """Nodes of the n x n Q8 mesh (more than its n^2 elements): the ids used per body."""
+    return (2 * n + 1) ** 2 - n * n
+
+
+def check_options(a):
+    """Rejects the values that would give no body, an invalid deck or a traceback."""
+    check, finite = checker("halfdisc.py"), math.isfinite
+    check(finite(a.radius) and a.radius > 0.0, "--radius", "a positive finite length", a.radius)
+    check(a.subdivide >= 1, "--subdivide", "a positive integer (spans per direction)",
+          a.subdivide)
+    check(a.elevate >= 2, "--elevate", "a degree >= 2 (the patch is quadratic)", a.elevate)
+    check(a.n >= 1, "--n", "a positive integer (Q8 elements per direction)", a.n)
+    h, d = a.radius / (a.n if a.kind == "q8" else a.subdivide), 2.0 * a.radius
+    check(sys.float_info.min <= h * h and finite(d * d), "--radius", "a length whose "
+          "Jacobians, from (R/spans)^2 to (2R)^2, stay normal finite numbers", a.radius)
+    check(a.id_offset >= 0, "--id-offset", "an integer >= 0 (deck ids are > 0)", a.id_offset)
+    if a.kind == "q8":
+        last = MAX_ID - q8_id_count(a.n)
+        check(a.id_offset <= last, "--id-offset", f"at most {last}, so that the last id of the "
+              f"{a.n} x {a.n} mesh stays <= {MAX_ID}", a.id_offset)
+    # the body name also names the sets NAME_SYM and NAME_ARC: 4 characters more
+    check(NAME.match(a.name) and len(a.name) <= 60, "--name",
+          f"a name of at most 60 characters ({NAME_RULE})", a.name)
+    check(NAME.match(a.material), "--material", f"a name ({NAME_RULE})", a.material)
+    check(finite(a.E) and a.E > 0.0, "--E", "a positive finite Young's modulus", a.E)
+    check(-1.0 < a.nu < 0.5, "--nu", "a Poisson ratio in (-1, 0.5)", a.nu)
+    check(finite(a.rho) and a.rho > 0.0, "--rho", "a positive finite density", a.rho)
+    check(finite(a.vx), "--vx", "a finite velocity", a.vx)
+    check(finite(a.vy), "--vy", "a finite velocity", a.vy)
+    check(a.wall is None or (finite(a.wall) and a.wall > 0.0), "--wall",
+          "a positive finite penalty", a.wall)
+    check(finite(a.dt) and a.dt >= 0.0, "--dt", "a finite time step >= 0 (0: automatic)", a.dt)
+    check(finite(a.t_end) and a.t_end > 0.0, "--t-end", "a positive finite end time", a.t_end)
+    check(a.field_every >= 0, "--field-every", "an integer >= 0 (0: the program's default)",
+          a.field_every)
+
+
 def options(**kw):
     """Default options, updated with kw (for use from Python, e.g. the verification cases)."""
     return defaults_with(parser(), kw)
@@ -248,6 +303,7 @@ def defaults_with(ap, kw):
 
 def main():
     a = parser().parse_args()
+    check_options(a)
     if a.body_only:
         sys.stdout.write(body_cards(a))
         return

@@ -24,13 +24,22 @@ Static Hertz (--static D --alpha A, with --wall): no initial velocity; the top 4
 G2 -> B of the upper body (node set UPPER_TOP) is moved down by D (prescribed displacement,
 constant in time) and mass-proportional damping ALPHA relaxes the body against the wall to the
 static state (dynamic relaxation).
+
+Bad values (counts < 1, degree < 2, a penalty, t_end or grading ratio <= 0, a negative dt,
+alpha or field-every, mass passes outside [0, 50], D outside (0, 2R), non-finite numbers; Q8
+with two bodies: n > 181, as the lower body's ids start at 100001) end the script with a
+one-line message and exit status 1, before anything is written.
 """
 import argparse
+import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halfdisc  # noqa: E402
+
+LOWER_IDS = 100000   # Q8: id offset of the lower body
+MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_reader.f90)
 
 
 def parser():
@@ -60,6 +69,46 @@ def parser():
                     help="static Hertz: top arc moved down by D (needs --wall)")
     ap.add_argument("--alpha", type=float, default=0.0, help="*DAMPING, ALPHA= (static)")
     return ap
+
+
+def check_options(a):
+    """Rejects the values that would give an invalid deck or a traceback."""
+    check, finite = halfdisc.checker("hertz.py"), math.isfinite
+    check(a.subdivide >= 1, "--subdivide", "a positive integer (spans per direction)",
+          a.subdivide)
+    check(a.elevate >= 2, "--elevate", "a degree >= 2 (the patch is quadratic)", a.elevate)
+    check(a.n >= 1, "--n", "a positive integer (Q8 elements per direction)", a.n)
+    if a.kind == "q8" and not a.wall:
+        n_max = max(n for n in range(1, 400) if halfdisc.q8_id_count(n) <= LOWER_IDS)
+        check(a.n <= n_max, "--n", f"at most {n_max} with two bodies (the upper body's ids "
+              f"must stay below the lower body's, {LOWER_IDS + 1} on)", a.n)
+    check(0 <= a.mass_passes <= MAX_PASSES, "--mass-passes",
+          f"an integer in [0, {MAX_PASSES}] (0: the default solver)", a.mass_passes)
+    check(finite(a.penalty) and a.penalty > 0.0, "--penalty", "a positive finite penalty",
+          a.penalty)
+    check(finite(a.dt) and a.dt >= 0.0, "--dt", "a finite time step >= 0 (0: automatic)", a.dt)
+    check(finite(a.t_end) and a.t_end > 0.0, "--t-end", "a positive finite end time", a.t_end)
+    check(a.field_every >= 0, "--field-every", "an integer >= 0 (0: 20 snapshots)",
+          a.field_every)
+    spans = a.subdivide if a.kind == "iga" else a.n
+    for opt, q in (("--grade-arc", a.grade_arc), ("--grade-depth", a.grade_depth)):
+        check(finite(q) and q > 0.0, opt, "a positive finite ratio (1: uniform)", q)
+        check(q == 1.0 or graded_ok(spans, q), opt,
+              f"a ratio closer to 1, so that all {spans} spans keep a positive length", q)
+    if a.static is not None:
+        check(finite(a.static) and 0.0 < a.static < 8.0, "--static",
+              "a displacement D in (0, 8) (down, less than the height 2R = 8 of the body)",
+              a.static)
+    check(finite(a.alpha) and a.alpha >= 0.0, "--alpha", "a finite damping >= 0", a.alpha)
+
+
+def graded_ok(n, q):
+    """True when the n spans of graded_knots(n, q) are all of positive length."""
+    try:
+        u = graded_knots(n, q)[2:-2]
+    except (OverflowError, ZeroDivisionError):
+        return False
+    return all(map(math.isfinite, u)) and all(a < b for a, b in zip(u, u[1:]))
 
 
 def graded_knots(n, q):
@@ -203,7 +252,7 @@ def deck(a, command):
     out.append(_body(a, "upper", "UPPER", 0))
     bodies = ["UPPER"]
     if not a.wall:
-        out.append(_body(a, "lower", "LOWER", 100000))
+        out.append(_body(a, "lower", "LOWER", LOWER_IDS))
         bodies.append("LOWER")
     out.append("*BOUNDARY\n" + "".join(f"{b}_SYM, 1, 1\n" for b in bodies))
     if static:
@@ -238,6 +287,7 @@ def options(**kw):
 
 def main():
     a = parser().parse_args()
+    check_options(a)
     args = " ".join(f"'{s}'" if " " in s else s for s in sys.argv[1:])
     sys.stdout.write(deck(a, "scripts/mesh/hertz.py " + args))
 

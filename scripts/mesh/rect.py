@@ -8,29 +8,95 @@ Node sets: LEFT, RIGHT, BOTTOM, TOP (edges), CORNER_LL/LR/UL/UR, plus the ELSET.
 nodes follow deck-format.md (corners counter-clockwise, then midsides, then the centre).
 --distort d moves every interior vertex node by a deterministic pseudo-random offset of up to
 d times the element size (midside nodes stay at the middle of straight edges), for patch tests.
+0 <= d < 0.25 keeps every element valid: each is the bilinear map of its corners, whose edges,
+in units of the element size, are (1 + a, c) and (e, 1 + b) with |a|, |b|, |c|, |e| < 2d, so
+the corner Jacobians exceed (1 - 2d)^2 - 4d^2 = 1 - 4d > 0 (d >= 0.25 can invert an element).
+
+Bad values (counts or ids < 1, lengths <= 0, non-finite numbers, bad names, d outside
+[0, 0.25)) end the script with a one-line message and exit status 1, before anything is written.
 """
 import argparse
 import math
+import re
 import sys
+
+MAX_ID = 2**31 - 1                       # ids are default Fortran integers (deck_lexer.f90)
+MAX_DISTORT = 0.25                       # keeps every Jacobian positive (see above)
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_reader.f90)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--type", choices=["Q4", "Q8", "Q9"], default="Q8")
-    ap.add_argument("--nx", type=int, required=True)
-    ap.add_argument("--ny", type=int, required=True)
-    ap.add_argument("--lx", type=float, required=True)
-    ap.add_argument("--ly", type=float, required=True)
+    ap.add_argument("--nx", type=int, required=True, help="elements along x (>= 1)")
+    ap.add_argument("--ny", type=int, required=True, help="elements along y (>= 1)")
+    ap.add_argument("--lx", type=float, required=True, help="length along x (> 0)")
+    ap.add_argument("--ly", type=float, required=True, help="length along y (> 0)")
     ap.add_argument("--x0", type=float, default=0.0)
     ap.add_argument("--y0", type=float, default=0.0)
-    ap.add_argument("--first-node", type=int, default=1)
-    ap.add_argument("--first-element", type=int, default=1)
+    ap.add_argument("--first-node", type=int, default=1, help="first node id (>= 1)")
+    ap.add_argument("--first-element", type=int, default=1, help="first element id (>= 1)")
     ap.add_argument("--elset", default="BODY")
     ap.add_argument("--material", default="MAT")
     ap.add_argument("--prefix", default="", help="prefix of the node set names")
-    ap.add_argument("--distort", type=float, default=0.0)
+    ap.add_argument("--distort", type=float, default=0.0,
+                    help="vertex offset, a fraction of the element size in [0, 0.25)")
     a = ap.parse_args()
+    check_options(a)
     write_mesh(a, sys.stdout)
+
+
+def check(ok, option, expected, value):
+    """Unless ok, exits with status 1 and "rect.py: OPTION: expected EXPECTED, got VALUE"."""
+    if not ok:
+        sys.exit(f"rect.py: {option}: expected {expected}, got {value!r}")
+
+
+def node_count(a):
+    """Nodes of the mesh (the fine grid, less the centres for Q8)."""
+    if a.type == "Q4":
+        return (a.nx + 1) * (a.ny + 1)
+    return (2 * a.nx + 1) * (2 * a.ny + 1) - (a.nx * a.ny if a.type == "Q8" else 0)
+
+
+def grid_ok(x0, length, m):
+    """True when the grid coordinates x0 + i * (length / m), i = 0..m, as write_mesh computes
+    them, are finite and strictly increasing (no coincident nodes)."""
+    h = length / m
+    xs = [x0 + i * h for i in range(m + 1)]
+    return all(map(math.isfinite, xs)) and all(p < q for p, q in zip(xs, xs[1:]))
+
+
+def check_options(a):
+    """Rejects the values that would give no mesh, an invalid one or a traceback."""
+    check(a.nx >= 1, "--nx", "a positive integer", a.nx)
+    check(a.ny >= 1, "--ny", "a positive integer", a.ny)
+    check(node_count(a) <= MAX_ID, "--nx, --ny", f"at most {MAX_ID} nodes", (a.nx, a.ny))
+    for opt, first, count, what in (("--first-node", a.first_node, node_count(a), "node"),
+                                    ("--first-element", a.first_element, a.nx * a.ny, "element")):
+        check(first >= 1, opt, f"a positive {what} id (deck ids are > 0)", first)
+        check(first <= MAX_ID - count + 1, opt, f"at most {MAX_ID - count + 1}, so that the "
+              f"last of the {count} {what} ids stays <= {MAX_ID}", first)
+    for opt, v in (("--lx", a.lx), ("--ly", a.ly)):
+        check(math.isfinite(v) and v > 0.0, opt, "a positive finite length", v)
+    for opt, v in (("--x0", a.x0), ("--y0", a.y0)):
+        check(math.isfinite(v), opt, "a finite number", v)
+    jac = (a.lx / a.nx) * (a.ly / a.ny) / 4   # Jacobian of an undistorted element
+    check(sys.float_info.min <= jac and math.isfinite(a.lx * a.ly), "--lx, --ly",
+          "lengths whose element Jacobians, (lx/nx)(ly/ny)/4, stay normal finite numbers",
+          (a.lx, a.ly))
+    m = 1 if a.type == "Q4" else 2
+    check(grid_ok(a.x0, a.lx, m * a.nx), "--lx",
+          f"a length whose nodes stay finite and distinct from --x0 {a.x0!r}", a.lx)
+    check(grid_ok(a.y0, a.ly, m * a.ny), "--ly",
+          f"a length whose nodes stay finite and distinct from --y0 {a.y0!r}", a.ly)
+    rule = "a letter or _, then letters, digits, _, - or ., at most 64 characters"
+    check(NAME.match(a.elset), "--elset", f"a name ({rule})", a.elset)
+    check(NAME.match(a.material), "--material", f"a name ({rule})", a.material)
+    check(NAME.match(a.prefix + "CORNER_LL"), "--prefix",
+          f"a prefix giving valid set names such as {a.prefix}CORNER_LL ({rule})", a.prefix)
+    check(0.0 <= a.distort < MAX_DISTORT, "--distort",
+          f"a number in [0, {MAX_DISTORT:g}) (larger offsets can invert elements)", a.distort)
 
 
 def write_mesh(a, out):
