@@ -30,7 +30,8 @@ module ictus_app_build_model
 
 contains
 
-  !> Deck location ("file:line" or "patch NAME, element k") of model element e.
+  !> Deck location of model element e: "file:line" of its *ELEMENT data line, or for a NURBS
+  !! element "file:line: patch NAME, element k" with the line of the *PATCH card.
   function element_where(e) result(w)
     integer, intent(in) :: e
     character(len=:), allocatable :: w
@@ -269,7 +270,8 @@ contains
           model%patch(e) = ip
           model%patch_elem(e) = ie
           model%conn(1:pt%nen, e) = model%patch_offset(ip) + pt%ien(:, ie)
-          write(origin%where(e), '(a,i0)') 'patch '//trim(pt%name)//', element ', ie
+          write(origin%where(e), '(a,i0)') trim(deck%patches(ip)%where)//': patch '// &
+              trim(pt%name)//', element ', ie
         end do
       end associate
     end do
