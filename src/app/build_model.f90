@@ -5,7 +5,8 @@
 !! element type for TYPE=ALPHA, a set resolving to nothing, ...) is reported with the deck
 !! location through `input_error`; the caller checks `error_count()`.
 module ictus_app_build_model
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_memory, only: available_memory
   use ictus_core_errors, only: input_error, warning
   use ictus_core_strings, only: str, upper
   use ictus_geometry_sides, only: SIDE_NONE
@@ -21,6 +22,10 @@ module ictus_app_build_model
   implicit none
   private
   public :: build_model, element_where, resolve_node_set, resolve_elem_set, patch_index
+
+  !> Largest degree *ELEVATE takes (Gauss rules, element matrices and Bezier extraction are
+  !! sized by it; p = 10 already has 121 control points per element).
+  integer, parameter :: max_degree = 10
 
   !> Where each model element was defined (for messages), filled by build_model.
   type :: origin_t
@@ -129,22 +134,67 @@ contains
     do k = 1, deck%n_patch_ops
       j = patch_index(model, deck%patch_ops(k)%patch)
       if (j == 0) cycle
-      select case (deck%patch_ops(k)%kind)
-      case (OP_ELEVATE)
-        if (any(deck%patch_ops(k)%values < model%patches(j)%p)) then
-          call input_error(deck%patch_ops(k)%where, '*ELEVATE: DEGREE must not be below '// &
-              'the current degree '//str(model%patches(j)%p(1))//','//str(model%patches(j)%p(2)))
-          cycle
-        end if
-        call patch_elevate(model%patches(j), deck%patch_ops(k)%values)
-      case (OP_REFINE)
-        call patch_refine(model%patches(j), deck%patch_ops(k)%values)
-      end select
+      associate (op => deck%patch_ops(k), pt => model%patches(j))
+        select case (op%kind)
+        case (OP_ELEVATE)
+          if (any(op%values < pt%p)) then
+            call input_error(op%where, '*ELEVATE: DEGREE must not be below the current '// &
+                'degree '//str(pt%p(1))//','//str(pt%p(2)))
+            cycle
+          end if
+          if (any(op%values > max_degree)) then
+            call input_error(op%where, '*ELEVATE: DEGREE='//str(op%values(1))//','// &
+                str(op%values(2))//' is above the largest degree ictus takes, '// &
+                str(max_degree))
+            cycle
+          end if
+          ! each of the at most n - p spans gains q - p control points per direction
+          if (.not. patch_fits(op%where, '*ELEVATE', pt%name, &
+              int(pt%n, i8) + int(op%values - pt%p, i8)*int(pt%n - pt%p, i8), op%values)) cycle
+          call patch_elevate(pt, op%values)
+        case (OP_REFINE)
+          ! each of the at most n - p spans gains k - 1 control points per direction
+          if (.not. patch_fits(op%where, '*REFINE', pt%name, &
+              int(pt%n, i8) + int(op%values - 1, i8)*int(pt%n - pt%p, i8), pt%p)) cycle
+          call patch_refine(pt, op%values)
+        end select
+      end associate
     end do
     do ip = 1, model%npatch
       call patch_build_elements(model%patches(ip))
     end do
   end subroutine build_patches
+
+  !> Whether a patch of at most n(1) x n(2) control points of degree p still fits: its
+  !! stiffness blocks, (2 p1 + 1)(2 p2 + 1) per control point, must be countable by the default
+  !! integers of the sparse structure and their 36 bytes each must fit in the memory left on
+  !! this node. Otherwise reports it at `where` and returns false.
+  logical function patch_fits(where, card, name, n, p)
+    character(len=*), intent(in) :: where, card, name
+    integer(i8), intent(in) :: n(2)
+    integer, intent(in) :: p(2)
+    integer(i8) :: ncp, blocks, avail
+    real(dp) :: gb
+    ncp = n(1)*n(2)
+    blocks = ncp*int((2*p(1) + 1)*(2*p(2) + 1), i8)
+    patch_fits = .true.
+    if (blocks > int(huge(1), i8)) then
+      call input_error(where, card//': patch '//trim(name)//' would have up to '//str(ncp)// &
+          ' control points and '//str(blocks)//' stiffness blocks; at most '//str(huge(1))// &
+          ' blocks fit the sparse structure (a smaller refinement, or several patches)')
+      patch_fits = .false.
+      return
+    end if
+    avail = available_memory()
+    gb = 36.0_dp*real(blocks, dp)/1024.0_dp**3
+    if (avail >= 0 .and. 36.0_dp*real(blocks, dp) > real(avail, dp)) then
+      call input_error(where, card//': patch '//trim(name)//' would need about '// &
+          str(gb)//' GB for its stiffness alone, more than the '// &
+          str(real(avail, dp)/1024.0_dp**3)//' GB available on this node '// &
+          '(a smaller refinement, or more nodes)')
+      patch_fits = .false.
+    end if
+  end function patch_fits
 
   !> Index of patch `name`, 0 when undefined.
   integer function patch_index(model, name)

@@ -18,7 +18,8 @@ module ictus_app_driver
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
-  use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians
+  use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians, &
+      mass_overflow_element
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, &
       mass_steps_fused, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
@@ -144,6 +145,12 @@ contains
         call log_info('automatic time step: '//str(model%safety)//' * 2/omega_max = '//str(dt))
       end if
     end if
+    if (.not. model%t_end/dt < real(huge(1) - 1, dp)) then
+      call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: t_end / dt = '// &
+          str(model%t_end/dt)//' steps (dt = '//str(dt)//'); at most '//str(huge(1) - 1)// &
+          ' steps (a shorter t_end, or a larger dt)')
+      call input_failure()
+    end if
     if (contact%npairs > 0) then
       call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
           dt, r1, where)
@@ -176,19 +183,33 @@ contains
     type(domain_t), intent(in) :: dom
     type(operators_t), intent(out) :: ops
     integer, allocatable :: bad_jac(:), bad_mass(:), counts(:)
+    logical, allocatable :: nonfinite(:)
     real(dp), allocatable :: all_bad(:)
     integer :: nbj, nbm, k, e, ntot
-    call check_jacobians(model, bad_jac, nbj)
+    call check_jacobians(model, bad_jac, nbj, nonfinite)
     do k = 1, min(nbj, 20)
       e = bad_jac(k)
-      call input_error(element_where(e), etype_name(model%etype(e))//' element '// &
-          str(model%elem_id(e))//' has a non-positive Jacobian determinant (inverted or '// &
-          'degenerate; corners must run counter-clockwise)')
+      if (nonfinite(k)) then
+        call input_error(element_where(e), etype_name(model%etype(e))//' element '// &
+            str(model%elem_id(e))//' has a Jacobian determinant that is not a finite number '// &
+            '(coordinates too large: expected element sizes whose squares stay below 1e308)')
+      else
+        call input_error(element_where(e), etype_name(model%etype(e))//' element '// &
+            str(model%elem_id(e))//' has a non-positive Jacobian determinant (inverted or '// &
+            'degenerate; corners must run counter-clockwise)')
+      end if
     end do
     if (nbj > 20) call input_error('', str(nbj - 20)//' more elements with a non-positive '// &
         'Jacobian determinant')
     if (nbj > 0) return
     call assemble_operators(model, dom, ops, bad_mass, nbm)
+    if (.not. ops%total_mass <= huge(1.0_dp)) then
+      e = max(mass_overflow_element(model), 1)
+      call input_error(element_where(e), 'the total mass is not a finite number from '// &
+          etype_name(model%etype(e))//' element '//str(model%elem_id(e))//' on (expected '// &
+          'element areas times densities whose sum stays below 1e308)')
+      return
+    end if
     ! the non-positive masses of all ranks, in increasing global index
     allocate(counts(env_size()))
     call allgather_int(nbm, counts)
@@ -199,7 +220,7 @@ contains
     bad_mass = nint(all_bad)
     call sort(bad_mass)
     e = first_element_of(model, bad_mass(1))
-    call input_error('*MASS', 'the lumped mass is not positive at nodes '// &
+    call input_error(element_where(e), 'the lumped mass is not positive at nodes '// &
         join_ids(model%node_id(bad_mass), 8)//' ('//etype_name(model%etype(e))// &
         ' elements, mass type '//mass_name(model%mass_kind(e))//')'//mass_reason(model, e))
   end subroutine check_operators

@@ -145,6 +145,12 @@ contains
     igp = 0
     do g = 1, shp%ngp
       call jacobian(nen, shp, xl, g, detj, dnx)
+      if (.not. abs(detj) <= huge(1.0_dp)) then
+        ! NaN or infinite (coordinates too large to square): returned as it is
+        detj_min = detj
+        igp = g
+        return
+      end if
       if (detj < detj_min) then
         detj_min = detj
         igp = g

@@ -8,7 +8,8 @@ module ictus_solver_assemble
   use ictus_elements_types, only: elem_shape_t, ETYPE_IGA
   use ictus_elements_library, only: element_shape_data
   use ictus_elements_iga, only: iga_shape_data
-  use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_min_detj
+  use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_min_detj, &
+      solid2d_volume
   use ictus_materials_elastic, only: elastic_dmat
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
@@ -19,7 +20,8 @@ module ictus_solver_assemble
       csr_init, bsr_add_element, csr_add_element
   implicit none
   private
-  public :: operators_t, assemble_operators, check_jacobians, element_shape, shape_cache_t
+  public :: operators_t, assemble_operators, check_jacobians, element_shape, shape_cache_t, &
+      mass_overflow_element
 
   !> The assembled constant operators.
   type :: operators_t
@@ -84,7 +86,8 @@ contains
   !! of the nodal masses, from the elements of `dom` in global order. Elements with det J <= 0
   !! are skipped (the caller checks them first with `check_jacobians`); owned nodes whose
   !! lumped mass is not positive are listed by global index in `bad_mass` (a consistent mass is
-  !! checked through its HRZ diagonal, which is positive for any valid element).
+  !! checked through its HRZ diagonal, which is positive for any valid element); an infinite
+  !! mass (coordinates or a density too large) is listed too.
   subroutine assemble_operators(model, dom, ops, bad_mass, nbad_mass)
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
@@ -176,33 +179,59 @@ contains
     allocate(bad_mass(dom%nowned))
     nbad_mass = 0
     do i = 1, dom%nowned
-      if (g%row_ptr(i + 1) - g%row_ptr(i) > 1 .and. .not. ops%m_pos(i) > 0.0_dp) then
+      if (g%row_ptr(i + 1) - g%row_ptr(i) > 1 .and. &
+          .not. (ops%m_pos(i) > 0.0_dp .and. ops%m_pos(i) <= huge(1.0_dp))) then
         nbad_mass = nbad_mass + 1
         bad_mass(nbad_mass) = dom%halo%gid(i)
       end if
     end do
   end subroutine assemble_operators
 
-  !> Elements (global indices, increasing) with a non-positive Jacobian determinant at a
-  !! quadrature point. Runs over the whole model on every rank, so all ranks agree.
-  subroutine check_jacobians(model, bad, nbad)
+  !> Elements (global indices, increasing) with a non-positive or non-finite Jacobian
+  !! determinant at a quadrature point; nonfinite(k) tells which of the two bad(k) has. Runs
+  !! over the whole model on every rank, so all ranks agree.
+  subroutine check_jacobians(model, bad, nbad, nonfinite)
     type(model_t), intent(in) :: model
     integer, allocatable, intent(out) :: bad(:)
     integer, intent(out) :: nbad
+    logical, allocatable, intent(out) :: nonfinite(:)
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp
     real(dp) :: detj_min
     integer :: e, igp, nen
-    allocate(bad(model%nel))
+    allocate(bad(model%nel), nonfinite(model%nel))
     nbad = 0
     do e = 1, model%nel
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call solid2d_min_detj(nen, shp, model%x0(:, model%conn(1:nen, e)), detj_min, igp)
-      if (.not. detj_min > 0.0_dp) then
+      if (.not. (detj_min > 0.0_dp .and. detj_min <= huge(1.0_dp))) then
         nbad = nbad + 1
         bad(nbad) = e
+        nonfinite(nbad) = .not. abs(detj_min) <= huge(1.0_dp)
       end if
     end do
   end subroutine check_jacobians
+  !> The first element (global index) at which the running sum of the element masses,
+  !! density times area, stops being a finite number; 0 when the total is finite. Used to
+  !! name an element when a model's mass overflows (coordinates or densities too large).
+  integer function mass_overflow_element(model) result(ebad)
+    type(model_t), intent(in) :: model
+    type(shape_cache_t) :: cache
+    type(elem_shape_t) :: shp
+    real(dp) :: vol, total
+    integer :: e, nen
+    ebad = 0
+    total = 0.0_dp
+    do e = 1, model%nel
+      nen = model%nen(e)
+      call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
+      call solid2d_volume(nen, shp, model%x0(:, model%conn(1:nen, e)), unit_thickness, vol)
+      total = total + model%density(model%mat(e))*abs(vol)
+      if (.not. total <= huge(1.0_dp)) then
+        ebad = e
+        return
+      end if
+    end do
+  end function mass_overflow_element
 end module ictus_solver_assemble
