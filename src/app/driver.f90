@@ -137,6 +137,13 @@ contains
         call input_failure()
       end if
     else
+      if (.not. (omega > 0.0_dp .and. omega <= huge(1.0_dp))) then
+        call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: no automatic time '// &
+            'step: omega_max = '//str(omega)//' is not a positive finite number (stiffness '// &
+            'and mass out of the range of doubles, e.g. E = 1e300 or element masses near '// &
+            '1e-308, or no free dof); give dt, or rescale the units')
+        call input_failure()
+      end if
       dt = model%safety*min(dt_crit, dt_pen)
       if (dt_pen < dt_crit) then
         call log_info('automatic time step: '//str(model%safety)//' * penalty limit = '// &
@@ -200,7 +207,7 @@ contains
       end if
     end do
     if (nbj > 20) call input_error('', str(nbj - 20)//' more elements with a non-positive '// &
-        'Jacobian determinant')
+        'or non-finite Jacobian determinant')
     if (nbj > 0) return
     call assemble_operators(model, dom, ops, bad_mass, nbm)
     if (.not. ops%total_mass <= huge(1.0_dp)) then
