@@ -73,7 +73,7 @@ contains
             trim(w%name)//': PENALTY must be positive')
         name = w%name
         if (len_trim(name) == 0) name = 'wall'//str(i)
-        if (norm2(w%normal) > 0.0_dp) then
+        if (any(w%normal /= 0.0_dp)) then
           call contact_define_wall(c, k, name, w%point, w%normal, w%penalty, max(s1, 1))
         else
           call input_error(w%where, '*RIGID WALL '//trim(w%name)//': NORMAL is zero')

@@ -110,6 +110,15 @@ contains
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
+    if (.not. omega <= huge(1.0_dp)) then
+      ! NaN: the iteration met masses or stiffnesses out of the range of doubles; no step,
+      ! given or automatic, can be checked against a stable limit
+      call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: the stable time '// &
+          'step cannot be computed: the frequency iteration left the range of doubles '// &
+          '(omega_max = '//str(omega)//'; stiffness and mass out of range, e.g. E = 1e300 '// &
+          'or element masses near 1e-308); rescale the units')
+      call input_failure()
+    end if
     call log_info('stability: omega_max = '//str(omega)//' (Lanczos-accelerated power '// &
         'iteration, '//str(iters)//' steps), critical time step 2/omega_max = '//str(dt_crit))
     ! the penalty limit of the predictor-corrector scheme (physics.md §4.4-4.5): the contact
@@ -137,11 +146,9 @@ contains
         call input_failure()
       end if
     else
-      if (.not. (omega > 0.0_dp .and. omega <= huge(1.0_dp))) then
+      if (.not. omega > 0.0_dp) then
         call input_error(deck%step%dynamic_where, '*DYNAMIC, EXPLICIT: no automatic time '// &
-            'step: omega_max = '//str(omega)//' is not a positive finite number (stiffness '// &
-            'and mass out of the range of doubles, e.g. E = 1e300 or element masses near '// &
-            '1e-308, or no free dof); give dt, or rescale the units')
+            'step: omega_max = 0, no dof is free; give dt')
         call input_failure()
       end if
       dt = model%safety*min(dt_crit, dt_pen)

@@ -85,13 +85,17 @@ contains
     integer, intent(in) :: k, surf
     character(len=*), intent(in) :: name
     real(dp), intent(in) :: point(2), normal(2), penalty
+    real(dp) :: n(2)
     c%pairs(k)%name = lower(trim(name))
     c%pairs(k)%kind = PAIR_WALL
     c%pairs(k)%penalty = penalty
     c%pairs(k)%first = surf
     c%pairs(k)%second = 0
     c%pairs(k)%wall_point = point
-    c%pairs(k)%wall_normal = normal/norm2(normal)
+    ! scaled by its largest component first: the squares of a normal of 1e-300 or 1e300 would
+    ! leave the range of doubles, and any length names the same direction
+    n = normal/maxval(abs(normal))
+    c%pairs(k)%wall_normal = n/norm2(n)
   end subroutine contact_define_wall
 
   !> Sizes all work arrays (after surfaces and pairs are defined).

@@ -1,6 +1,7 @@
 !> Critical time step: the largest natural frequency omega_max of M^-1 K by power iteration
 !! (physics.md §4.2). Central differences are stable for dt <= 2/omega_max.
 module ictus_solver_timestep
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ictus_core_kinds, only: dp, i8
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
@@ -25,7 +26,10 @@ contains
   !! The start vector is a fixed pseudo-random field of the global node indices and all sums
   !! are reproducible, so the result is the same bits on any number of ranks. Stops when the
   !! largest Ritz value changes by less than `rtol` (relative) over 5 steps, or after
-  !! `max_iter` steps; `iters` is the number of operator applications.
+  !! `max_iter` steps; `iters` is the number of operator applications. `omega` is 0 when no dof
+  !! is free (or the masses are 0), and NaN when the iteration meets a value out of the range of doubles (masses
+  !! near 1e-308, stiffnesses near 1e308): then it stops at once, and the caller must refuse
+  !! the step, given or automatic.
   !!
   !! The corrector (MASS_SOLVER_CORRECTOR) applies an approximate inverse Mk^-1, not M^-1, and
   !! only Mk^-1 is at hand, so the M inner product is not the right one: there Lanczos runs
@@ -84,7 +88,7 @@ contains
       q_old = q(:, 1:n)
       q(:, 1:n) = w(:, 1:n)/beta(j)
     end do
-    omega = sqrt(max(lam, 0.0_dp))
+    omega = omega_of(lam)
   end subroutine omega_max_power
 
   !> omega_max by Lanczos on A = K Mk^-1 in the Mk^-1 inner product (see omega_max_power):
@@ -135,8 +139,20 @@ contains
       q = w/beta(j)
       z(:, 1:n) = z(:, 1:n)/beta(j)
     end do
-    omega = sqrt(max(lam, 0.0_dp))
+    omega = omega_of(lam)
   end subroutine lanczos_inverse
+
+  !> sqrt(lam) of the largest Ritz value; NaN when lam is not a positive finite number. With
+  !! a free dof K_ii > 0 (E > 0) and lambda_max >= K_ii/M_ii > 0, so lam <= 0 means that the
+  !! sums left the range of doubles (K q overflowed, or the masses underflowed).
+  real(dp) function omega_of(lam) result(omega)
+    real(dp), intent(in) :: lam
+    if (lam > 0.0_dp .and. lam <= huge(1.0_dp)) then
+      omega = sqrt(lam)
+    else
+      omega = ieee_value(1.0_dp, ieee_quiet_nan)
+    end if
+  end function omega_of
 
   !> The start vector: a fixed pseudo-random field of the global dof numbers on the free
   !! owned dofs (0 elsewhere among the first nn columns).
@@ -154,16 +170,27 @@ contains
 
   !> The stopping rule after Lanczos step j: every 5 steps (and at the last one, or at a
   !! breakdown beta_j ~ 0) the largest Ritz value lam is updated; true at a breakdown or when
-  !! lam changed by less than rtol (relative) since the previous update (from step 10 on).
+  !! lam changed by less than rtol (relative) since the previous update (from step 10 on), and
+  !! at once when alpha_j, beta_j or lam is not a finite number (lam is then NaN: the
+  !! iteration has left the range of doubles and would never converge).
   logical function converged(j, alpha, beta, rtol, max_iter, lam, lam_old) result(done)
     integer, intent(in) :: j, max_iter
     real(dp), intent(in) :: alpha(:), beta(:), rtol
     real(dp), intent(inout) :: lam, lam_old
     logical :: breakdown
+    done = .true.
+    if (.not. (abs(alpha(j)) <= huge(1.0_dp) .and. beta(j) <= huge(1.0_dp))) then
+      lam = ieee_value(1.0_dp, ieee_quiet_nan)
+      return
+    end if
     done = .false.
     breakdown = beta(j) <= 1.0e-14_dp*abs(alpha(j))
     if (.not. (mod(j, 5) == 0 .or. j == max_iter .or. breakdown)) return
     lam = largest_ritz_value(j, alpha, beta)
+    if (.not. abs(lam) <= huge(1.0_dp)) then
+      done = .true.
+      return
+    end if
     done = breakdown .or. (j >= 10 .and. abs(lam - lam_old) <= rtol*abs(lam))
     if (.not. done) lam_old = lam
   end function converged
@@ -180,6 +207,7 @@ contains
     if (j > 1) e(1:j - 1) = beta(1:j - 1)
     call dstev('N', j, d, e, z, 1, work, info)
     lam = maxval(d)
+    if (info /= 0) lam = ieee_value(1.0_dp, ieee_quiet_nan)
   end function largest_ritz_value
 
   !> A deterministic pseudo-random number in [-1, 1) from an integer seed: the seed scrambled

@@ -21,7 +21,7 @@ from impact import C, RHO  # noqa: E402
 L, H, V0, N, EPS_HAT = 10.0, 0.1, 1.0, 100, 10.0
 
 
-def deck(kind):
+def deck(kind, normal="1,0"):
     eps = EPS_HAT * impact.E / (L / N)
     if kind == "Q8":
         bar, _, _ = impact.q8_bar("A", 0.0, L, H, N)
@@ -31,13 +31,14 @@ def deck(kind):
         mass = "ROW SUM"
     return (impact.header(f"bar against a rigid wall, {kind}") + bar
             + f"*INITIAL CONDITIONS, TYPE=VELOCITY\nA, 1, {-V0!r}\n"
-            + f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL=1,0, PENALTY={eps:.17g}\nA_LEFT\n"
+            + f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL={normal}, PENALTY={eps:.17g}\nA_LEFT\n"
             + f"*MASS, TYPE={mass}\n" + impact.step(1.3 * 2 * L / C))
 
 
 def main():
     args = vcheck.arguments()
     chk = vcheck.Checker("contact_wall")
+    forces = {}
     for kind in ("Q8", "IGA"):
         path = os.path.join(args.work, f"wall_{kind}.inp")
         with open(path, "w") as fd:
@@ -49,6 +50,7 @@ def main():
         chk.below(max(impact.ratios(log)), 0.5, f"{kind}: printed ratio r (dt = {dt:.4g})")
         t = r.history("time")
         f = r.history("contact/wall/force_first")[:, 0]   # on the bar: +x
+        forces[kind] = r.history("contact/wall/force_first")
         p = impact.pulse(t, f, dt)
         chk.close(p["plateau"], RHO * C * H * V0, 0.03, f"{kind}: plateau force = rho c A v0")
         chk.close(p["duration"], 2 * L / C, 0.03, f"{kind}: contact duration = 2L/c")
@@ -65,6 +67,16 @@ def main():
               f"{p['duration'] / (2 * L / C):.5f}, impulse "
               f"{p['impulse'] / (2 * RHO * H * L * V0):.5f}, final momentum "
               f"{mom / (RHO * L * H * V0):.5f} (ratios to exact)")
+    # A normal names a direction whatever its length: 1e-300 (whose square underflows) must
+    # give the run of the unit normal, bit for bit
+    path = os.path.join(args.work, "wall_Q8_tiny_normal.inp")
+    with open(path, "w") as fd:
+        fd.write(deck("Q8", normal="1e-300,0"))
+    out = path.replace(".inp", ".h5")
+    vcheck.run_ictus(args, path, out)
+    f_tiny = vcheck.Results(out).history("contact/wall/force_first")
+    chk.true(f_tiny.shape == forces["Q8"].shape and np.array_equal(f_tiny, forces["Q8"]),
+             "Q8: NORMAL=1e-300,0 gives the forces of NORMAL=1,0 bit for bit")
     chk.finish()
 
 
