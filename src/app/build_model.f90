@@ -83,6 +83,7 @@ contains
       model%sweep_steps = deck%step%sweep_steps
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
+      model%viz_samples = deck%step%field_samples
       model%restart_every = deck%step%restart_every
     end if
     if (model%nel == 0) call input_error(deck%path, &

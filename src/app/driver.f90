@@ -6,15 +6,16 @@
 module ictus_app_driver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ictus_core_sort, only: sort
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_memory, only: available_memory
   use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
   use ictus_core_logger, only: log_info, log_verbose
   use ictus_core_strings, only: str, join_ids
   use ictus_core_timer, only: wall_time
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max, allgather_int, &
-      allgatherv_real
-  use ictus_elements_types, only: etype_name, ETYPE_Q8
+      allgatherv_real, env_node_size
+  use ictus_elements_types, only: etype_name, ETYPE_Q8, ETYPE_IGA
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
@@ -37,6 +38,7 @@ module ictus_app_driver
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
       results_records
+  use ictus_io_iga_viz, only: iga_viz_count, iga_viz_default_samples
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_build_model, only: build_model, element_where
   implicit none
@@ -174,6 +176,7 @@ contains
           ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; physics.md §4.4 '// &
           'puts the limit of the predictor-corrector penalty at r = 1)')
     end if
+    call check_viz_memory(deck, model, dom)
     call log_summary(model, dom, ops, mop, dt)
     if (opt%check_only) then
       call log_info('check: the deck is valid; no results written')
@@ -183,6 +186,56 @@ contains
     call log_info(deck_echo(deck, .false.))
     call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
+
+  !> The viewing samples of the NURBS elements (src/io/iga_viz.f90) must fit in memory: while
+  !! the results file is opened every rank forms the coordinates of all sample points and
+  !! the cells (16 bytes each), and for the run it keeps, per sample of the elements it
+  !! evaluates, a row number and the displacement and velocity (36 bytes); that times the
+  !! ranks of a node against the memory available. Refused at *OUTPUT, FIELD (or *STEP)
+  !! before anything is written, with the same decision on all ranks.
+  subroutine check_viz_memory(deck, model, dom)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer(i8) :: ns, nc, mine, avail
+    real(dp) :: need, mem(2)
+    character(len=:), allocatable :: where, s_text
+    integer :: e, s
+    if (model%npatch == 0) return
+    call iga_viz_count(model, model%viz_samples, ns, nc)
+    mine = 0
+    do e = 1, model%nel
+      if (model%etype(e) /= ETYPE_IGA) cycle
+      if (dom%owner(model%conn(1, e)) /= dom%rank) cycle
+      s = model%viz_samples
+      if (s == 0) s = iga_viz_default_samples(model%patches(model%patch(e))%p)
+      mine = mine + int(s, i8)**2
+    end do
+    need = 16.0_dp*real(ns + nc, dp) + 36.0_dp*real(mine, dp)
+    mem(1) = need*env_node_size()
+    mem(2) = -huge(1.0_dp)
+    avail = available_memory()
+    if (avail >= 0) mem(2) = -real(avail, dp)
+    call allreduce_max(mem)
+    where = trim(deck%step%field_where)
+    if (len(where) == 0) where = trim(deck%step%where)
+    s_text = 'SAMPLES='//str(model%viz_samples)
+    if (model%viz_samples == 0) s_text = 'the default SAMPLES = 2 p_max + 1 per direction'
+    if (ns > huge(1) - 1) then
+      call input_error(where, '*OUTPUT, FIELD: the NURBS elements would have '//str(ns)// &
+          ' viewing sample points ('//s_text//'); at most '//str(huge(1) - 1)// &
+          ' can be numbered; use *OUTPUT, FIELD, SAMPLES=2 (4 points per element)')
+      call input_failure()
+    else if (mem(2) > -huge(1.0_dp) .and. mem(1) > -mem(2)) then
+      call input_error(where, '*OUTPUT, FIELD: the '//str(ns)//' viewing sample points of '// &
+          'the NURBS elements ('//s_text//') need '//str(need/1.0e6_dp, 4)// &
+          ' MB on each of the '//str(env_node_size())//' rank(s) of a node, but '// &
+          str(-mem(2)/1.0e6_dp, 4)//' MB are available (ICTUS_MEMORY_LIMIT_MB, '// &
+          '/proc/meminfo, the control group, ulimit -v); use *OUTPUT, FIELD, SAMPLES=2 '// &
+          '(4 points per element), fewer ranks per node, or more memory')
+      call input_failure()
+    end if
+  end subroutine check_viz_memory
 
   !> Ends a run whose input is wrong: exit status 1, nothing written.
   subroutine input_failure()
@@ -469,7 +522,7 @@ contains
         if (field) then
           ! the viewing samples of NURBS elements read ghost velocities too
           if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
-          call results_field(res, dom, n, s%t, s%u, s%v_mid, gid, contact)
+          call results_field(res, model, dom, n, s%t, s%u, s%v_mid, gid, contact)
         end if
         if (n == nsteps) exit
         if (contact%npairs > 0) call contact_between()

@@ -11,9 +11,13 @@
 !! Measured effect: doc/performance.md §3.1.
 !!
 !! `available_memory` tells a large setup allocation (the Cholesky factor of a consistent
-!! mass) whether it fits, before the kernel's out-of-memory killer decides.
+!! mass, a refined patch, the viewing samples) whether it fits, before the allocation fails
+!! or the kernel's out-of-memory killer decides: the least of what the node has free, what
+!! the process's control group (a batch job's memory limit, cgroup v1 or v2) still allows,
+!! what its address-space limit (`ulimit -v`) still allows, and ICTUS_MEMORY_LIMIT_MB.
 module ictus_core_memory
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_size_t, c_intptr_t, c_loc, c_null_ptr
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_size_t, c_intptr_t, c_loc, &
+      c_null_ptr, c_long
   use ictus_core_kinds, only: dp, i8
   use ictus_core_errors, only: warning
   implicit none
@@ -25,6 +29,15 @@ module ictus_core_memory
   !> Arrays smaller than this are left alone (they fit in the caches anyway).
   integer(c_size_t), parameter :: min_bytes = 4_c_size_t*1024_c_size_t**2
   integer(c_intptr_t), parameter :: page = 4096_c_intptr_t
+  !> Linux <asm-generic/resource.h>: RLIMIT_AS, the address-space limit of `ulimit -v`.
+  integer(c_int), parameter :: rlimit_as = 9_c_int
+  !> Control-group limits at or above this (2^60 bytes) mean "no limit".
+  integer(i8), parameter :: no_limit = 2_i8**60
+
+  !> struct rlimit of Linux x86-64 and aarch64: two unsigned longs (RLIM_INFINITY = all ones).
+  type, bind(c) :: rlimit_t
+    integer(c_long) :: cur, max
+  end type rlimit_t
 
   interface
     function c_madvise(addr, length, advice) bind(c, name='madvise') result(ierr)
@@ -34,6 +47,12 @@ module ictus_core_memory
       integer(c_int), value :: advice
       integer(c_int) :: ierr
     end function c_madvise
+    function c_getrlimit(resource, rlim) bind(c, name='getrlimit') result(ierr)
+      import :: c_int, rlimit_t
+      integer(c_int), value :: resource
+      type(rlimit_t), intent(out) :: rlim
+      integer(c_int) :: ierr
+    end function c_getrlimit
   end interface
 
   !> call alloc_stream(a, n1[, n2[, n3]], value): allocate(a(n1, ...)), ask for huge pages,
@@ -95,9 +114,10 @@ contains
     ierr = c_madvise(transfer(first, c_null_ptr), int(last - first, c_size_t), madv_hugepage)
   end subroutine advise_huge
 
-  !> Bytes of memory still available on this node: MemAvailable of /proc/meminfo, capped by
-  !! the environment variable ICTUS_MEMORY_LIMIT_MB when it is set (a batch job's limit,
-  !! which /proc/meminfo does not show); -1 when neither is known.
+  !> Bytes of memory this process can still allocate: MemAvailable of /proc/meminfo, capped by
+  !! the control group's limit less its usage, the address-space limit less the process's
+  !! size (VmSize) and the environment variable ICTUS_MEMORY_LIMIT_MB when it is set (a batch
+  !! job's limit that none of these shows); -1 when none is known.
   function available_memory() result(bytes)
     integer(i8) :: bytes
     character(len=256) :: line, ev
@@ -118,6 +138,8 @@ contains
       end do
       close(u)
     end if
+    call cap(bytes, cgroup_room())
+    call cap(bytes, address_space_room())
     call get_environment_variable('ICTUS_MEMORY_LIMIT_MB', ev, length=n, status=st)
     if (st /= 0 .or. n == 0) return
     ! a plain decimal number (no exponent: nothing can overflow)
@@ -135,4 +157,113 @@ contains
       bytes = min(bytes, int(mb*1024.0_dp**2, i8))
     end if
   end function available_memory
+
+  !> bytes = min(bytes, room) where each is known (>= 0); -1 means unknown.
+  subroutine cap(bytes, room)
+    integer(i8), intent(inout) :: bytes
+    integer(i8), intent(in) :: room
+    if (room < 0) return
+    if (bytes < 0) then
+      bytes = room
+    else
+      bytes = min(bytes, room)
+    end if
+  end subroutine cap
+
+  !> What the address-space limit (RLIMIT_AS) leaves: the limit less VmSize of
+  !! /proc/self/status; -1 without a limit.
+  function address_space_room() result(room)
+    integer(i8) :: room
+    type(rlimit_t) :: rl
+    integer(i8) :: vm
+    room = -1
+    if (c_getrlimit(rlimit_as, rl) /= 0) return
+    if (rl%cur < 0) return
+    vm = proc_value('/proc/self/status', 'VmSize:')
+    if (vm < 0) return
+    room = max(int(rl%cur, i8) - vm*1024_i8, 0_i8)
+  end function address_space_room
+
+  !> What the memory limit of this process's control group leaves: limit less usage, of
+  !! cgroup v2 (memory.max, memory.current) or v1 (memory.limit_in_bytes,
+  !! memory.usage_in_bytes), in the group named by /proc/self/cgroup or, inside a container
+  !! whose mount shows its own group at the root, at the root; -1 without a limit.
+  function cgroup_room() result(room)
+    integer(i8) :: room
+    character(len=512) :: line, v2, v1
+    integer :: u, ios, k
+    room = -1
+    v2 = ''
+    v1 = ''
+    open(newunit=u, file='/proc/self/cgroup', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (line(1:3) == '0::') v2 = line(4:)
+      k = index(line, ':memory:')
+      if (k > 0) v1 = line(k + 8:)
+    end do
+    close(u)
+    if (len_trim(v2) > 0) then
+      call cap(room, group_room('/sys/fs/cgroup'//trim(v2), 'memory.max', 'memory.current'))
+      call cap(room, group_room('/sys/fs/cgroup', 'memory.max', 'memory.current'))
+    end if
+    if (len_trim(v1) > 0) then
+      call cap(room, group_room('/sys/fs/cgroup/memory'//trim(v1), 'memory.limit_in_bytes', &
+          'memory.usage_in_bytes'))
+      call cap(room, group_room('/sys/fs/cgroup/memory', 'memory.limit_in_bytes', &
+          'memory.usage_in_bytes'))
+    end if
+  end function cgroup_room
+
+  !> limit - usage of one control group's files (bytes); -1 when absent or unlimited.
+  function group_room(dir, limit_file, usage_file) result(room)
+    character(len=*), intent(in) :: dir, limit_file, usage_file
+    integer(i8) :: room
+    integer(i8) :: limit, usage
+    room = -1
+    limit = file_number(trim(dir)//'/'//limit_file)
+    if (limit < 0 .or. limit >= no_limit) return
+    usage = max(file_number(trim(dir)//'/'//usage_file), 0_i8)
+    room = max(limit - usage, 0_i8)
+  end function group_room
+
+  !> The number on the first line of a file; -1 when the file is absent or holds no number
+  !! (cgroup v2 writes "max" for no limit).
+  function file_number(path) result(v)
+    character(len=*), intent(in) :: path
+    integer(i8) :: v
+    character(len=64) :: line
+    integer :: u, ios
+    v = -1
+    open(newunit=u, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    read(u, '(a)', iostat=ios) line
+    close(u)
+    if (ios /= 0 .or. verify(trim(line), '0123456789') /= 0 .or. len_trim(line) == 0) return
+    read(line, *, iostat=ios) v
+    if (ios /= 0) v = -1
+  end function file_number
+
+  !> The number after `key` on its line of a /proc file (kB for the sizes); -1 when absent.
+  function proc_value(path, key) result(v)
+    character(len=*), intent(in) :: path, key
+    integer(i8) :: v
+    character(len=256) :: line
+    integer :: u, ios, st
+    v = -1
+    open(newunit=u, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (line(1:len(key)) == key) then
+        read(line(len(key) + 1:), *, iostat=st) v
+        if (st /= 0) v = -1
+        exit
+      end if
+    end do
+    close(u)
+  end function proc_value
 end module ictus_core_memory

@@ -304,7 +304,7 @@ contains
   subroutine echo_step(d, t)
     type(deck_t), intent(in) :: d
     type(text_t), intent(inout) :: t
-    character(len=:), allocatable :: sweep
+    character(len=:), allocatable :: sweep, samples
     if (.not. d%has_step) return
     sweep = ', SWEEP STEPS=AUTO'
     if (d%step%sweep_steps > 0) sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
@@ -322,10 +322,13 @@ contains
     end select
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
     call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
+    samples = ''
+    if (d%step%field_samples > 0) samples = ', SAMPLES='//str(d%step%field_samples)
     if (d%step%field_every == 0) then
-      call put(t, '*OUTPUT, FIELD, EVERY=0     ** 0 = default: 20 snapshots over the run')
+      call put(t, '*OUTPUT, FIELD, EVERY=0'//samples//'     ** 0 = default: 20 snapshots '// &
+          'over the run')
     else
-      call put(t, '*OUTPUT, FIELD, EVERY='//str(d%step%field_every))
+      call put(t, '*OUTPUT, FIELD, EVERY='//str(d%step%field_every)//samples)
     end if
     if (d%step%restart_every > 0) then
       call put(t, '*RESTART, WRITE, EVERY='//str(d%step%restart_every))

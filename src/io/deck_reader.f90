@@ -1428,7 +1428,7 @@ contains
     d%step%t_end = v(2)
   end subroutine read_dynamic
 
-  !> *OUTPUT, HISTORY|FIELD [, EVERY=n].
+  !> *OUTPUT, HISTORY|FIELD [, EVERY=n] [, SAMPLES=s (FIELD)].
   subroutine read_output(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -1436,7 +1436,7 @@ contains
     integer :: n(1)
     logical :: history, field
 
-    call check_params(c, 'EVERY', 'HISTORY|FIELD')
+    call check_params(c, 'EVERY|SAMPLES', 'HISTORY|FIELD')
     call no_data(c, rd)
     history = has_flag(c, 'HISTORY')
     field = has_flag(c, 'FIELD')
@@ -1445,6 +1445,8 @@ contains
       return
     end if
     if (history) then
+      if (has_param(c, 'SAMPLES')) call card_error(c, 'SAMPLES= goes with *OUTPUT, FIELD '// &
+          '(viewing samples of NURBS elements), not with HISTORY')
       if (rd%has_history) call card_error(c, 'a second *OUTPUT, HISTORY in the step')
       rd%has_history = .true.
       if (get_ints(c, 'EVERY', 1, 'an integer n >= 1', n)) then
@@ -1464,6 +1466,15 @@ contains
           d%step%field_every = n(1)
         end if
       end if
+      if (get_ints(c, 'SAMPLES', 1, 'an integer s in [2, 21]', n)) then
+        if (n(1) < 2 .or. n(1) > 21) then
+          call card_error(c, 'SAMPLES='//str(n(1))//' must lie in [2, 21] (viewing '// &
+              'samples per direction of each NURBS element)')
+        else
+          d%step%field_samples = n(1)
+        end if
+      end if
+      d%step%field_where = c%where
     end if
   end subroutine read_output
 

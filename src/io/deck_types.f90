@@ -183,6 +183,10 @@ module ictus_io_deck_types
     integer :: history_every = 1
     !> Field output every n steps (0 = default: 20 snapshots over the run).
     integer :: field_every = 0
+    !> Viewing samples per direction of NURBS elements (SAMPLES=; 0 = 2 p_max + 1 per patch).
+    integer :: field_samples = 0
+    !> "file:line" of *OUTPUT, FIELD ('' when the deck has none).
+    character(len=where_len) :: field_where = ''
     !> Checkpoint every n steps (0 = none).
     integer :: restart_every = 0
     !> "file:line" of *STEP and of *DYNAMIC.

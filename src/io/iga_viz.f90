@@ -2,145 +2,214 @@
 !!
 !! Viewers draw straight-sided cells with values at their corners, while a NURBS field lives
 !! on control points that do not lie on the body. Each Bezier element (IGA element of the
-!! model) is therefore sampled on an s x s grid of parent points, s = 2 p_max + 1 (p_max the
-!! larger of the element's two degrees), and the grid is cut into (s-1)^2 linear quads.
+!! model) is therefore sampled on an s x s grid of parent points, by default s = 2 p_max + 1
+!! (p_max the larger of its patch's two degrees; `*OUTPUT, FIELD, SAMPLES=s` sets s for all
+!! patches), and the grid is cut into (s-1)^2 linear quads.
 !!
-!! A value at sample point k is sum_j val(j, k) * u(idx(j, k)) over the element's control
-!! points (a sparse interpolation matrix, row k), so the same matrix maps the reference
-!! control-point coordinates to the sample points and control-point displacements to the
-!! displacement at the sample points.
+!! A value at a sample point is sum_a R_a u_a over the element's control points a, with the
+!! rational basis R_a = w_a N1_a1 N2_a2 / sum_b w_b N1_b1 N2_b2. The B-spline values N1 at the
+!! s sample parameters of a span depend only on the span of direction 1 (N2 likewise), so
+!! they are kept per patch and span, (p+1) x s numbers per span and direction, and the sample
+!! values are formed when a field is written. This keeps the memory of the samples
+!! negligible: one row of basis values per sample point (the way this module first stored
+!! them) is 12 (p+1)^2 + 20 bytes a point, 3.2 KB per p = 2 element and 10 KB per p = 3
+!! element, several times the element's share of the stiffness.
+!! The same formulas map the reference control-point coordinates to the sample points and
+!! control-point displacements to the displacement at the sample points.
 !!
 !! Ordering: elements in model order (only ETYPE_IGA elements); within an element the sample
 !! points run direction-1 fastest, at parent coordinates xi~ = -1 + 2 i/(s-1), i = 0..s-1
 !! (the same in direction 2). Sample points on element edges are repeated per element (each
 !! element's cells are independent), so a field that jumps across elements would also show.
 module ictus_io_iga_viz
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
   use ictus_elements_types, only: ETYPE_IGA
-  use ictus_elements_iga, only: iga_basis_at
+  use ictus_geometry_bezier, only: bernstein
   use ictus_geometry_patch, only: patch_elem_ij
   use ictus_solver_model, only: model_t
   implicit none
   private
-  public :: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_free
+  public :: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, iga_viz_cells, &
+      iga_viz_free, iga_viz_count, iga_viz_default_samples
+
+  !> B-spline values of one patch at the sample parameters of each span.
+  type :: viz_patch_t
+    !> Samples per direction.
+    integer :: s = 0
+    !> n1(a1, i, j1): B-spline a1 of span j1 of direction 1 at sample i (1..s); n2 likewise.
+    real(dp), allocatable :: n1(:,:,:), n2(:,:,:)
+  end type viz_patch_t
 
   !> Sample points and linear-quad cells of all IGA elements of a model.
   type :: iga_viz_t
     !> Number of sample points and of cells.
     integer :: ns = 0
     integer :: ncells = 0
-    !> Largest number of control points per element (rows of idx and val).
+    !> Largest number of control points per element.
     integer :: nen_max = 0
-    !> Global control-point indices (1..nn) of each sample point's element, (nen_max, ns);
-    !! 0 in unused rows (elements with fewer control points).
-    integer, allocatable :: idx(:,:)
-    !> NURBS basis values at each sample point, (nen_max, ns); 0 in unused rows.
-    real(dp), allocatable :: val(:,:)
-    !> Reference coordinates of the sample points, (2, ns).
-    real(dp), allocatable :: points(:,:)
-    !> Linear-quad cells (4, ncells), 0-based sample point indices, counter-clockwise in the
-    !! parameter plane (counter-clockwise in x when det J > 0).
-    integer, allocatable :: cells(:,:)
-    !> Model element of each sample point, (ns).
-    integer, allocatable :: elem(:)
+    !> First sample point (0-based) and first cell (0-based) of each model element; -1 for
+    !! elements that are not sampled.
+    integer, allocatable :: first_point(:), first_cell(:)
+    !> The patches' tables.
+    type(viz_patch_t), allocatable :: patches(:)
   end type iga_viz_t
 
 contains
 
-  !> Builds the sample points, interpolation matrix and cells of all IGA elements of `model`.
-  !! @param model the model (patches as refined, conn, patch, patch_elem, x0, weight);
-  !! @param viz filled (any previous content is released)
-  subroutine iga_viz_init(model, viz)
+  !> Samples per direction of a patch of degrees p when SAMPLES= is not given: 2 p_max + 1.
+  pure integer function iga_viz_default_samples(p) result(s)
+    integer, intent(in) :: p(2)
+    s = 2*maxval(p) + 1
+  end function iga_viz_default_samples
+
+  !> Sample points and cells of all IGA elements, without building anything: what the memory
+  !! check needs before iga_viz_init. @param samples s for every patch, 0 = the default.
+  subroutine iga_viz_count(model, samples, ns, ncells)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: samples
+    integer(i8), intent(out) :: ns, ncells
+    integer :: ip, s
+    ns = 0
+    ncells = 0
+    do ip = 1, model%npatch
+      s = patch_samples(model, ip, samples)
+      ns = ns + int(s, i8)**2*model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
+      ncells = ncells + int(s - 1, i8)**2*model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
+    end do
+  end subroutine iga_viz_count
+
+  !> Builds the sample numbering and the patches' B-spline tables.
+  !! @param model the model (patches as refined, conn, patch, patch_elem);
+  !! @param viz filled (any previous content is released);
+  !! @param samples s for every patch, >= 2; 0 or absent = 2 p_max + 1 per patch
+  subroutine iga_viz_init(model, viz, samples)
     type(model_t), intent(in) :: model
     type(iga_viz_t), intent(inout) :: viz
-    integer :: e, s, ns, nc, nen, ip, ie, ij(2), i1, i2, k, k0, c
-    real(dp) :: xi(2)
+    integer, intent(in), optional :: samples
+    integer :: e, s, ip, i, j, smp
+    ! degrees are at most 10 (the deck's limit)
+    real(dp) :: xi, b(11), db(11)
     call iga_viz_free(viz)
-    ns = 0
-    nc = 0
-    viz%nen_max = 0
-    do e = 1, model%nel
-      if (model%etype(e) /= ETYPE_IGA) cycle
-      s = samples_per_direction(model, e)
-      ns = ns + s*s
-      nc = nc + (s - 1)**2
-      viz%nen_max = max(viz%nen_max, model%nen(e))
-    end do
-    viz%ns = ns
-    viz%ncells = nc
-    allocate(viz%idx(viz%nen_max, ns), viz%val(viz%nen_max, ns), viz%points(2, ns), &
-        viz%cells(4, nc), viz%elem(ns))
-    viz%idx = 0
-    viz%val = 0.0_dp
-    k = 0
-    c = 0
-    do e = 1, model%nel
-      if (model%etype(e) /= ETYPE_IGA) cycle
-      s = samples_per_direction(model, e)
-      nen = model%nen(e)
-      ip = model%patch(e)
-      ie = model%patch_elem(e)
-      k0 = k
-      associate (pt => model%patches(ip))
-        ij = patch_elem_ij(pt, ie)
-        do i2 = 0, s - 1
-          do i1 = 0, s - 1
-            k = k + 1
-            xi = [-1.0_dp + 2.0_dp*real(i1, dp)/real(s - 1, dp), &
-                -1.0_dp + 2.0_dp*real(i2, dp)/real(s - 1, dp)]
-            call basis_values(pt%p, pt%c1(:, :, ij(1)), pt%c2(:, :, ij(2)), &
-                model%weight(model%conn(1:nen, e)), xi, viz%val(1:nen, k))
-            viz%idx(1:nen, k) = model%conn(1:nen, e)
-            viz%elem(k) = e
+    smp = 0
+    if (present(samples)) smp = samples
+    allocate(viz%patches(model%npatch))
+    do ip = 1, model%npatch
+      associate (pt => model%patches(ip), vp => viz%patches(ip))
+        s = patch_samples(model, ip, smp)
+        vp%s = s
+        allocate(vp%n1(pt%p(1) + 1, s, pt%nel(1)), vp%n2(pt%p(2) + 1, s, pt%nel(2)))
+        do i = 1, s
+          xi = -1.0_dp + 2.0_dp*real(i - 1, dp)/real(s - 1, dp)
+          call bernstein(pt%p(1), 0.5_dp*(xi + 1.0_dp), b(1:pt%p(1) + 1), db(1:pt%p(1) + 1))
+          do j = 1, pt%nel(1)
+            vp%n1(:, i, j) = matmul(pt%c1(:, :, j), b(1:pt%p(1) + 1))
+          end do
+          call bernstein(pt%p(2), 0.5_dp*(xi + 1.0_dp), b(1:pt%p(2) + 1), db(1:pt%p(2) + 1))
+          do j = 1, pt%nel(2)
+            vp%n2(:, i, j) = matmul(pt%c2(:, :, j), b(1:pt%p(2) + 1))
           end do
         end do
       end associate
-      ! cells: corners (i1, i2), (i1+1, i2), (i1+1, i2+1), (i1, i2+1), 0-based point numbers
+    end do
+    allocate(viz%first_point(model%nel), viz%first_cell(model%nel))
+    viz%first_point = -1
+    viz%first_cell = -1
+    viz%nen_max = 0
+    do e = 1, model%nel
+      if (model%etype(e) /= ETYPE_IGA) cycle
+      s = viz%patches(model%patch(e))%s
+      viz%first_point(e) = viz%ns
+      viz%first_cell(e) = viz%ncells
+      viz%ns = viz%ns + s*s
+      viz%ncells = viz%ncells + (s - 1)**2
+      viz%nen_max = max(viz%nen_max, model%nen(e))
+    end do
+  end subroutine iga_viz_init
+
+  !> Control-point values to the sample-point values of the elements `elems`, in their order
+  !! (each element's s^2 points, direction 1 fastest). No allocation.
+  !! @param uc control-point (node) vectors (2, :), node i at column map(i) (a rank's local
+  !! numbering, or the identity); @param us (2, points of elems)
+  pure subroutine iga_viz_eval(viz, model, elems, uc, us, map)
+    type(iga_viz_t), intent(in) :: viz
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: elems(:)
+    real(dp), intent(in) :: uc(:,:)
+    real(dp), intent(out) :: us(:,:)
+    integer, intent(in) :: map(:)
+    integer :: q, e, k, ij(2), i1, i2, a1, a2, a, nen
+    real(dp) :: r(viz%nen_max), ww
+    k = 0
+    do q = 1, size(elems)
+      e = elems(q)
+      nen = model%nen(e)
+      associate (pt => model%patches(model%patch(e)), vp => viz%patches(model%patch(e)))
+        ij = patch_elem_ij(pt, model%patch_elem(e))
+        do i2 = 1, vp%s
+          do i1 = 1, vp%s
+            k = k + 1
+            ! the rational basis as iga_basis_at forms it
+            ww = 0.0_dp
+            a = 0
+            do a2 = 1, pt%p(2) + 1
+              do a1 = 1, pt%p(1) + 1
+                a = a + 1
+                r(a) = model%weight(model%conn(a, e))*vp%n1(a1, i1, ij(1))*vp%n2(a2, i2, ij(2))
+                ww = ww + r(a)
+              end do
+            end do
+            us(1:2, k) = 0.0_dp
+            do a = 1, nen
+              us(1:2, k) = us(1:2, k) + (r(a)/ww)*uc(1:2, map(model%conn(a, e)))
+            end do
+          end do
+        end do
+      end associate
+    end do
+  end subroutine iga_viz_eval
+
+  !> Reference coordinates of all sample points, (2, ns).
+  pure subroutine iga_viz_points(viz, model, points)
+    type(iga_viz_t), intent(in) :: viz
+    type(model_t), intent(in) :: model
+    real(dp), intent(out) :: points(:,:)
+    integer :: e, i
+    call iga_viz_eval(viz, model, pack([(e, e = 1, model%nel)], viz%first_point >= 0), &
+        model%x0, points, [(i, i = 1, model%nn)])
+  end subroutine iga_viz_points
+
+  !> Linear-quad cells (4, ncells), 0-based sample point numbers, counter-clockwise in the
+  !! parameter plane (counter-clockwise in x when det J > 0).
+  pure subroutine iga_viz_cells(viz, model, cells)
+    type(iga_viz_t), intent(in) :: viz
+    type(model_t), intent(in) :: model
+    integer, intent(out) :: cells(:,:)
+    integer :: e, s, i1, i2, k0, c
+    do e = 1, model%nel
+      if (viz%first_point(e) < 0) cycle
+      s = viz%patches(model%patch(e))%s
+      k0 = viz%first_point(e)
+      c = viz%first_cell(e)
+      ! corners (i1, i2), (i1+1, i2), (i1+1, i2+1), (i1, i2+1)
       do i2 = 0, s - 2
         do i1 = 0, s - 2
           c = c + 1
-          viz%cells(1, c) = k0 + i1 + i2*s
-          viz%cells(2, c) = k0 + i1 + 1 + i2*s
-          viz%cells(3, c) = k0 + i1 + 1 + (i2 + 1)*s
-          viz%cells(4, c) = k0 + i1 + (i2 + 1)*s
+          cells(1, c) = k0 + i1 + i2*s
+          cells(2, c) = k0 + i1 + 1 + i2*s
+          cells(3, c) = k0 + i1 + 1 + (i2 + 1)*s
+          cells(4, c) = k0 + i1 + (i2 + 1)*s
         end do
       end do
     end do
-    call iga_viz_eval(viz, model%x0, viz%points)
-  end subroutine iga_viz_init
+  end subroutine iga_viz_cells
 
-  !> Samples per direction of IGA element e: 2 p_max + 1.
-  pure integer function samples_per_direction(model, e) result(s)
+  !> Samples per direction of patch ip: `samples` when > 0, else the default.
+  pure integer function patch_samples(model, ip, samples) result(s)
     type(model_t), intent(in) :: model
-    integer, intent(in) :: e
-    s = 2*maxval(model%patches(model%patch(e))%p) + 1
-  end function samples_per_direction
-
-  !> NURBS basis values of one element at parent point xi (derivatives discarded).
-  pure subroutine basis_values(p, c1e, c2e, wl, xi, r)
-    integer, intent(in) :: p(2)
-    real(dp), intent(in) :: c1e(:,:), c2e(:,:), wl(:), xi(2)
-    real(dp), intent(out) :: r(:)
-    real(dp) :: dr(2, size(r))
-    call iga_basis_at(p, c1e, c2e, wl, xi, r, dr)
-  end subroutine basis_values
-
-  !> Control-point values to sample-point values: us(:, k) = sum_j val(j, k) uc(:, idx(j, k)).
-  !! No allocation. @param viz from iga_viz_init; @param uc control-point (node) vectors
-  !! (2, nn), global numbering; @param us sample-point vectors (2, viz%ns)
-  pure subroutine iga_viz_eval(viz, uc, us)
-    type(iga_viz_t), intent(in) :: viz
-    real(dp), intent(in) :: uc(:,:)
-    real(dp), intent(out) :: us(:,:)
-    integer :: k, j
-    do k = 1, viz%ns
-      us(1:2, k) = 0.0_dp
-      do j = 1, viz%nen_max
-        if (viz%idx(j, k) == 0) exit
-        us(1:2, k) = us(1:2, k) + viz%val(j, k)*uc(1:2, viz%idx(j, k))
-      end do
-    end do
-  end subroutine iga_viz_eval
+    integer, intent(in) :: ip, samples
+    s = samples
+    if (s <= 0) s = iga_viz_default_samples(model%patches(ip)%p)
+  end function patch_samples
 
   !> Releases everything.
   !! @param viz the samples
@@ -149,10 +218,8 @@ contains
     viz%ns = 0
     viz%ncells = 0
     viz%nen_max = 0
-    if (allocated(viz%idx)) deallocate(viz%idx)
-    if (allocated(viz%val)) deallocate(viz%val)
-    if (allocated(viz%points)) deallocate(viz%points)
-    if (allocated(viz%cells)) deallocate(viz%cells)
-    if (allocated(viz%elem)) deallocate(viz%elem)
+    if (allocated(viz%first_point)) deallocate(viz%first_point)
+    if (allocated(viz%first_cell)) deallocate(viz%first_cell)
+    if (allocated(viz%patches)) deallocate(viz%patches)
   end subroutine iga_viz_free
 end module ictus_io_iga_viz

@@ -12,7 +12,8 @@ module ictus_io_results
   use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t
   use ictus_solver_domain, only: domain_t
-  use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init
+  use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, &
+      iga_viz_cells
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
       h5u_create_ext, h5u_append, h5u_write_rows, h5u_open_file, h5u_truncate, h5u_delete, &
@@ -60,11 +61,12 @@ module ictus_io_results
     !> Element blocks for the XDMF sidecar.
     type(xdmf_grid_t), allocatable :: grids(:)
     integer :: nn = 0
-    !> Viewing samples of the NURBS elements: the samples this rank evaluates (those of
-    !! elements whose first control point it owns), their rows and values (2, nmine).
+    !> Viewing samples of the NURBS elements: the elements whose samples this rank evaluates
+    !! (those whose first control point it owns), the rows of their samples and their values
+    !! (2, nmine).
     type(iga_viz_t) :: viz
     integer :: nviz_mine = 0
-    integer, allocatable :: viz_mine(:)
+    integer, allocatable :: viz_elems(:), viz_mine(:)
     real(dp), allocatable :: viz_u(:,:), viz_v(:,:)
   end type results_t
 
@@ -106,7 +108,7 @@ contains
     call write_model(r, model, m_diag, gid)
     call write_partition(r, dom)
     call setup_views(r, model, dom)
-    call write_viz(r)
+    call write_viz(r, model)
     call h5u_group(r%file, 'history', g)
     call h5u_create_ext(g, 'time', 0, buffer_size)
     call h5u_create_ext(g, 'dt', 0, buffer_size)
@@ -240,15 +242,24 @@ contains
   end subroutine write_partition
 
   !> /viz/iga: sample points and linear sub-cells of the NURBS elements, for viewing.
-  subroutine write_viz(r)
+  !! Both are formed here and released: the run keeps only the patches' tables.
+  subroutine write_viz(r, model)
     type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
     integer(hid_t) :: g
+    real(dp), allocatable :: points(:,:)
+    integer, allocatable :: cells(:,:)
     if (r%viz%ns == 0) return
     call h5u_group(r%file, 'viz', g)
     call h5u_close_group(g)
     call h5u_group(r%file, 'viz/iga', g)
-    call h5u_write(g, 'points', r%viz%points)
-    call h5u_write(g, 'cells', r%viz%cells)
+    allocate(points(2, r%viz%ns))
+    call iga_viz_points(r%viz, model, points)
+    call h5u_write(g, 'points', points)
+    deallocate(points)
+    allocate(cells(4, r%viz%ncells))
+    call iga_viz_cells(r%viz, model, cells)
+    call h5u_write(g, 'cells', cells)
     call h5u_close_group(g)
   end subroutine write_viz
 
@@ -258,7 +269,7 @@ contains
     type(results_t), intent(inout) :: r
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
-    integer :: t, ne, k
+    integer :: t, ne, e, q, k, s
     allocate(r%grids(0))
     do t = ETYPE_Q4, ETYPE_Q9
       ne = count(model%etype == t)
@@ -267,11 +278,22 @@ contains
           maxval(model%nen, mask=model%etype == t), model%nn)]
     end do
     if (model%npatch == 0) return
-    call iga_viz_init(model, r%viz)
-    r%viz_mine = pack([(k, k = 1, r%viz%ns)], &
-        dom%owner(model%conn(1, r%viz%elem)) == dom%rank)
-    r%nviz_mine = size(r%viz_mine)
-    allocate(r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    call iga_viz_init(model, r%viz, model%viz_samples)
+    r%viz_elems = pack([(e, e = 1, model%nel)], r%viz%first_point >= 0)
+    r%viz_elems = pack(r%viz_elems, dom%owner(model%conn(1, r%viz_elems)) == dom%rank)
+    r%nviz_mine = 0
+    do q = 1, size(r%viz_elems)
+      r%nviz_mine = r%nviz_mine + r%viz%patches(model%patch(r%viz_elems(q)))%s**2
+    end do
+    allocate(r%viz_mine(r%nviz_mine), r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    k = 0
+    do q = 1, size(r%viz_elems)
+      e = r%viz_elems(q)
+      do s = 1, r%viz%patches(model%patch(e))%s**2
+        k = k + 1
+        r%viz_mine(k) = r%viz%first_point(e) + s
+      end do
+    end do
     r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns)]
   end subroutine setup_views
 
@@ -363,23 +385,6 @@ contains
     results_records = r%n_written + r%nbuf
   end function results_records
 
-  !> Values at this rank's viewing samples of a local field x (2, nlocal).
-  subroutine viz_eval_local(r, dom, x, xs)
-    type(results_t), intent(in) :: r
-    type(domain_t), intent(in) :: dom
-    real(dp), intent(in) :: x(:,:)
-    real(dp), intent(out) :: xs(:,:)
-    integer :: k, s, a
-    do k = 1, r%nviz_mine
-      s = r%viz_mine(k)
-      xs(:, k) = 0.0_dp
-      do a = 1, r%viz%nen_max
-        if (r%viz%idx(a, s) <= 0) cycle
-        xs(:, k) = xs(:, k) + r%viz%val(a, s)*x(:, dom%g2l(r%viz%idx(a, s)))
-      end do
-    end do
-  end subroutine viz_eval_local
-
   !> Adds one history record (appended to the file in blocks).
   subroutine results_history(r, rec)
     type(results_t), intent(inout) :: r
@@ -435,8 +440,9 @@ contains
 
   !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar. u and v hold
   !! the values of this rank's owned nodes `gid`.
-  subroutine results_field(r, dom, step, time, u, v, gid, contact)
+  subroutine results_field(r, model, dom, step, time, u, v, gid, contact)
     type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer, intent(in) :: step
     real(dp), intent(in) :: time
@@ -453,8 +459,8 @@ contains
     call h5u_write_rows(g, 'displacement', u(:, 1:size(gid)), gid, r%nn)
     call h5u_write_rows(g, 'velocity', v(:, 1:size(gid)), gid, r%nn)
     if (r%viz%ns > 0) then
-      call viz_eval_local(r, dom, u, r%viz_u)
-      call viz_eval_local(r, dom, v, r%viz_v)
+      call iga_viz_eval(r%viz, model, r%viz_elems, u, r%viz_u, dom%g2l)
+      call iga_viz_eval(r%viz, model, r%viz_elems, v, r%viz_v, dom%g2l)
       call h5u_write_rows(g, 'viz_displacement', r%viz_u, r%viz_mine, r%viz%ns)
       call h5u_write_rows(g, 'viz_velocity', r%viz_v, r%viz_mine, r%viz%ns)
     end if

@@ -90,6 +90,9 @@ module ictus_solver_model
     integer :: sweep_steps = 0
     integer :: history_every = 1
     integer :: field_every = 0
+    !> Viewing samples per direction of each NURBS element (*OUTPUT, FIELD, SAMPLES=);
+    !! 0 = 2 p_max + 1 of its patch.
+    integer :: viz_samples = 0
     !> Checkpoint every n steps (0: only when stopped at a wall-time limit).
     integer :: restart_every = 0
   end type model_t
