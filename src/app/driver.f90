@@ -199,7 +199,7 @@ contains
     type(domain_t), intent(in) :: dom
     integer(i8) :: ns, nc, mine, avail
     real(dp) :: need, mem(2)
-    character(len=:), allocatable :: where, s_text
+    character(len=:), allocatable :: where, s_text, card
     integer :: e, s
     if (model%npatch == 0) return
     call iga_viz_count(model, model%viz_samples, ns, nc)
@@ -218,16 +218,20 @@ contains
     if (avail >= 0) mem(2) = -real(avail, dp)
     call allreduce_max(mem)
     where = trim(deck%step%field_where)
-    if (len(where) == 0) where = trim(deck%step%where)
+    card = '*OUTPUT, FIELD'
+    if (len(where) == 0) then
+      where = trim(deck%step%where)
+      card = '*STEP: the default field output (*OUTPUT, FIELD)'
+    end if
     s_text = 'SAMPLES='//str(model%viz_samples)
     if (model%viz_samples == 0) s_text = 'the default SAMPLES = 2 p_max + 1 per direction'
     if (ns > huge(1) - 1) then
-      call input_error(where, '*OUTPUT, FIELD: the NURBS elements would have '//str(ns)// &
+      call input_error(where, card//': the NURBS elements would have '//str(ns)// &
           ' viewing sample points ('//s_text//'); at most '//str(huge(1) - 1)// &
           ' can be numbered; use *OUTPUT, FIELD, SAMPLES=2 (4 points per element)')
       call input_failure()
     else if (mem(2) > -huge(1.0_dp) .and. mem(1) > -mem(2)) then
-      call input_error(where, '*OUTPUT, FIELD: the '//str(ns)//' viewing sample points of '// &
+      call input_error(where, card//': the '//str(ns)//' viewing sample points of '// &
           'the NURBS elements ('//s_text//') need '//str(need/1.0e6_dp, 4)// &
           ' MB on each of the '//str(env_node_size())//' rank(s) of a node, but '// &
           str(-mem(2)/1.0e6_dp, 4)//' MB are available (ICTUS_MEMORY_LIMIT_MB, '// &

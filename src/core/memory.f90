@@ -19,7 +19,7 @@ module ictus_core_memory
   use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_size_t, c_intptr_t, c_loc, &
       c_null_ptr, c_long
   use ictus_core_kinds, only: dp, i8
-  use ictus_core_errors, only: warning
+  use ictus_core_errors, only: warning, fatal
   implicit none
   private
   public :: alloc_stream, available_memory
@@ -56,7 +56,10 @@ module ictus_core_memory
   end interface
 
   !> call alloc_stream(a, n1[, n2[, n3]], value): allocate(a(n1, ...)), ask for huge pages,
-  !! then a = value (the first touch). `a` must not be allocated on entry.
+  !! then a = value (the first touch). `a` must not be allocated on entry. When the memory is
+  !! not there the run stops with exit status 2 and a message that gives the sizes (the
+  !! set-up checks what it can foresee before: a refined patch, a Cholesky factor, the
+  !! viewing samples; this is the last guard, without a backtrace).
   interface alloc_stream
     module procedure alloc_real1, alloc_real2, alloc_real3, alloc_int1
   end interface alloc_stream
@@ -67,7 +70,9 @@ contains
     real(dp), allocatable, target, intent(inout) :: a(:)
     integer, intent(in) :: n1
     real(dp), intent(in) :: value
-    allocate(a(n1))
+    integer :: st
+    allocate(a(n1), stat=st)
+    if (st /= 0) call out_of_memory(8.0_dp*n1)
     if (n1 > 0) call advise_huge(c_loc(a), int(n1, c_size_t)*8_c_size_t)
     a = value
   end subroutine alloc_real1
@@ -76,7 +81,9 @@ contains
     real(dp), allocatable, target, intent(inout) :: a(:,:)
     integer, intent(in) :: n1, n2
     real(dp), intent(in) :: value
-    allocate(a(n1, n2))
+    integer :: st
+    allocate(a(n1, n2), stat=st)
+    if (st /= 0) call out_of_memory(8.0_dp*n1*real(n2, dp))
     if (size(a) > 0) call advise_huge(c_loc(a), int(size(a), c_size_t)*8_c_size_t)
     a = value
   end subroutine alloc_real2
@@ -85,7 +92,9 @@ contains
     real(dp), allocatable, target, intent(inout) :: a(:,:,:)
     integer, intent(in) :: n1, n2, n3
     real(dp), intent(in) :: value
-    allocate(a(n1, n2, n3))
+    integer :: st
+    allocate(a(n1, n2, n3), stat=st)
+    if (st /= 0) call out_of_memory(8.0_dp*n1*real(n2, dp)*real(n3, dp))
     if (size(a) > 0) call advise_huge(c_loc(a), int(size(a), c_size_t)*8_c_size_t)
     a = value
   end subroutine alloc_real3
@@ -94,10 +103,24 @@ contains
     integer, allocatable, target, intent(inout) :: a(:)
     integer, intent(in) :: n1
     integer, intent(in) :: value
-    allocate(a(n1))
+    integer :: st
+    allocate(a(n1), stat=st)
+    if (st /= 0) call out_of_memory(4.0_dp*n1)
     if (n1 > 0) call advise_huge(c_loc(a), int(n1, c_size_t)*4_c_size_t)
     a = value
   end subroutine alloc_int1
+
+  !> Stops the run: an array of `bytes` could not be allocated.
+  subroutine out_of_memory(bytes)
+    real(dp), intent(in) :: bytes
+    character(len=32) :: need, avail
+    write(need, '(f0.1)') bytes/1.0e6_dp
+    write(avail, '(f0.1)') real(available_memory(), dp)/1.0e6_dp
+    call fatal('memory', 'not enough memory: an array of '//trim(need)//' MB could not be '// &
+        'allocated ('//trim(avail)//' MB available: /proc/meminfo, the control group, '// &
+        'ulimit -v, ICTUS_MEMORY_LIMIT_MB); a smaller model, fewer ranks per node, or more '// &
+        'memory', 2)
+  end subroutine out_of_memory
 
   !> madvise(MADV_HUGEPAGE) on the whole pages inside [addr, addr + nbytes); errors ignored.
   subroutine advise_huge(addr, nbytes)
