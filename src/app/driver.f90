@@ -38,7 +38,7 @@ module ictus_app_driver
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
       results_records
-  use ictus_io_iga_viz, only: iga_viz_count, iga_viz_default_samples
+  use ictus_io_iga_viz, only: iga_viz_count, iga_viz_samples
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_build_model, only: build_model, element_where
   implicit none
@@ -200,16 +200,14 @@ contains
     integer(i8) :: ns, nc, mine, avail
     real(dp) :: need, mem(2)
     character(len=:), allocatable :: where, s_text, card
-    integer :: e, s
+    integer :: e
     if (model%npatch == 0) return
     call iga_viz_count(model, model%viz_samples, ns, nc)
     mine = 0
     do e = 1, model%nel
       if (model%etype(e) /= ETYPE_IGA) cycle
       if (dom%owner(model%conn(1, e)) /= dom%rank) cycle
-      s = model%viz_samples
-      if (s == 0) s = iga_viz_default_samples(model%patches(model%patch(e))%p)
-      mine = mine + int(s, i8)**2
+      mine = mine + int(iga_viz_samples(model, model%patch(e), model%viz_samples), i8)**2
     end do
     need = 16.0_dp*real(ns + nc, dp) + 36.0_dp*real(mine, dp)
     mem(1) = need*env_node_size()

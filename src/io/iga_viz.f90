@@ -30,7 +30,7 @@ module ictus_io_iga_viz
   implicit none
   private
   public :: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, iga_viz_cells, &
-      iga_viz_free, iga_viz_count, iga_viz_default_samples
+      iga_viz_free, iga_viz_count, iga_viz_samples
 
   !> B-spline values of one patch at the sample parameters of each span.
   type :: viz_patch_t
@@ -56,12 +56,6 @@ module ictus_io_iga_viz
 
 contains
 
-  !> Samples per direction of a patch of degrees p when SAMPLES= is not given: 2 p_max + 1.
-  pure integer function iga_viz_default_samples(p) result(s)
-    integer, intent(in) :: p(2)
-    s = 2*maxval(p) + 1
-  end function iga_viz_default_samples
-
   !> Sample points and cells of all IGA elements, without building anything: what the memory
   !! check needs before iga_viz_init. @param samples s for every patch, 0 = the default.
   subroutine iga_viz_count(model, samples, ns, ncells)
@@ -72,7 +66,7 @@ contains
     ns = 0
     ncells = 0
     do ip = 1, model%npatch
-      s = patch_samples(model, ip, samples)
+      s = iga_viz_samples(model, ip, samples)
       ns = ns + int(s, i8)**2*model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
       ncells = ncells + int(s - 1, i8)**2*model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
     end do
@@ -95,7 +89,7 @@ contains
     allocate(viz%patches(model%npatch))
     do ip = 1, model%npatch
       associate (pt => model%patches(ip), vp => viz%patches(ip))
-        s = patch_samples(model, ip, smp)
+        s = iga_viz_samples(model, ip, smp)
         vp%s = s
         allocate(vp%n1(pt%p(1) + 1, s, pt%nel(1)), vp%n2(pt%p(2) + 1, s, pt%nel(2)))
         do i = 1, s
@@ -203,13 +197,13 @@ contains
     end do
   end subroutine iga_viz_cells
 
-  !> Samples per direction of patch ip: `samples` when > 0, else the default.
-  pure integer function patch_samples(model, ip, samples) result(s)
+  !> Samples per direction of patch ip: `samples` (SAMPLES=) when > 0, else 2 p_max + 1.
+  pure integer function iga_viz_samples(model, ip, samples) result(s)
     type(model_t), intent(in) :: model
     integer, intent(in) :: ip, samples
     s = samples
-    if (s <= 0) s = iga_viz_default_samples(model%patches(ip)%p)
-  end function patch_samples
+    if (s <= 0) s = 2*maxval(model%patches(ip)%p) + 1
+  end function iga_viz_samples
 
   !> Releases everything.
   !! @param viz the samples
