@@ -9,8 +9,8 @@ in a scratch directory (square meshes of about `size` elements: Q8 with HRZ lump
 consistent mass, one p = 2 NURBS patch with row-sum lumping or a consistent mass (solved by
 the default MASS SOLVER=AUTO, which takes the 1D factors along the lattice directions on these
 meshes; *-consistent-cholesky: by the Cholesky factor; iga-corrector: applied by 2 corrector
-passes), and the same
-square cut into two stacked blocks pressed together by a *CONTACT PAIR), runs
+passes; *-damped, asked for by --cases: the lumped case with mass-proportional damping), and
+the same square cut into two stacked blocks pressed together by a *CONTACT PAIR), runs
 build/bin/ictus-bench on each (and `mpirun -np 2` on the largest lumped meshes) and prints:
 
 - per case and size: ns per element per step for the whole step and its phases (stiffness
@@ -44,7 +44,9 @@ CASES = ["q8", "q8-consistent", "q8-contact", "iga", "iga-consistent", "iga-corr
          "iga-contact"]
 # also accepted by --cases: the consistent mass solved by the conjugate gradient
 EXTRA_CASES = ["q8-consistent-cg", "iga-consistent-cg", "q8-consistent-cholesky",
-               "iga-consistent-cholesky"]
+               "iga-consistent-cholesky", "q8-damped", "iga-damped"]
+# *-damped: the lumped case with mass-proportional damping (*DAMPING, ALPHA=DAMPING_ALPHA)
+DAMPING_ALPHA = 1.0
 # the consistent-mass solvers as ictus-bench reports them (MASS_SOLVER_* of src/solver/model.f90)
 SOLVERS = {1: "CG", 2: "Cholesky", 3: "corrector", 4: "Kronecker"}
 
@@ -122,6 +124,8 @@ def write_deck(path, case, size, dt=0.0, t_end=1.0):
     contact = rest == "contact"
     lumped = "HRZ" if disc == "q8" else "ROW SUM"
     head, mass = header(f"benchmark {case} {n} x {n}", "CONSISTENT" if consistent else lumped)
+    if rest == "damped":
+        mass += f"*DAMPING, ALPHA={DAMPING_ALPHA!r}\n"
     # contact: the upper block overlaps the lower one by 1 % of an element; penalty
     # eps = 0.1 E/h keeps the penalty ratio r = eps dt^2 (l_s/m_s + l_m/m_m) far below 1/2
     overlap = 0.01 * h
@@ -243,6 +247,17 @@ def slope(xs, ys):
     return float(np.polyfit(lx, ly, 1)[0])
 
 
+def against(res, disc, name, runs):
+    """The step of case disc-name against the lumped step `runs` of the same meshes:
+    (its runs, the sizes both have, the worst of them, the ratio there)."""
+    other = res.get(disc + "-" + name, {})
+    common = sorted(set(other) & set(runs))
+    if not common:
+        return other, common, None, None
+    worst = max(common, key=lambda s: other[s]["t_step"] / runs[s]["t_step"])
+    return other, common, worst, other[worst]["t_step"] / runs[worst]["t_step"]
+
+
 def verdicts(res, np2):
     """The targets of doc/performance.md: (target, measured, verdict) rows."""
     out = []
@@ -276,12 +291,9 @@ def verdicts(res, np2):
             add(f"{disc}: the same always in sweeps (SWEEP STEPS=6; worst size, "
                 f"{int(worst['nel'])} el.)", f"{r:.2f} x", None)
         for name, target in (("consistent", True), ("consistent-cholesky", False)):
-            cons = res.get(disc + "-" + name, {})
-            common = sorted(set(cons) & set(runs))
+            cons, common, worst, r = against(res, disc, name, runs)
             if not common:
                 continue
-            worst = max(common, key=lambda s: cons[s]["t_step"] / runs[s]["t_step"])
-            r = cons[worst]["t_step"] / runs[worst]["t_step"]
             how = SOLVERS.get(int(cons[worst].get("mass_solver", 0)), "?")
             add(f"{disc}: {name} step <= 2 x lumped step (worst size, "
                 f"{int(runs[worst]['nel'])} el.; {how}, solve = "
@@ -305,16 +317,17 @@ def verdicts(res, np2):
                 add(f"{disc}: the same against the lumped step one step per pass "
                     f"(SWEEP STEPS=1; worst size, {int(runs[worst]['nel'])} el.)",
                     f"{r:.2f} x", None)
-        cor = res.get(disc + "-corrector", {})
-        common = sorted(set(cor) & set(runs))
-        if common:
-            worst = max(common, key=lambda s: cor[s]["t_step"] / runs[s]["t_step"])
-            r = cor[worst]["t_step"] / runs[worst]["t_step"]
-            out.append((f"{disc}: consistent mass applied by 2 corrector passes (approximate "
-                        f"inverse, doc/theory.md §5) / lumped step (worst size, "
-                        f"{int(runs[worst]['nel'])} el.; passes = "
-                        f"{cor[worst]['t_mass'] / cor[worst]['t_kmv']:.2f} K u)", f"{r:.2f} x",
-                        "reported"))
+        for other in ("damped", "corrector"):
+            runs_o, common, worst, r = against(res, disc, other, runs)
+            if not common:
+                continue
+            nel = int(runs[worst]['nel'])
+            what = (f"{disc}: damped step (*DAMPING) / undamped step, each on its run's path "
+                    f"(worst size, {nel} el.)" if other == "damped" else
+                    f"{disc}: consistent mass applied by 2 corrector passes (approximate "
+                    f"inverse, doc/theory.md §5) / lumped step (worst size, {nel} el.; passes "
+                    f"= {runs_o[worst]['t_mass'] / runs_o[worst]['t_kmv']:.2f} K u)")
+            out.append((what, f"{r:.2f} x", "reported"))
         con = res.get(disc + "-contact", {})
         if len(con) >= 2:
             sizes = sorted(con)
@@ -346,7 +359,8 @@ def verdicts(res, np2):
 
 
 # same mesh, same K: the K u of these cases runs the same kernel on the same arrays
-SAME_K = {"q8": "q8", "q8-consistent": "q8", "q8-consistent-cg": "q8",
+SAME_K = {"q8": "q8", "q8-consistent": "q8", "q8-consistent-cg": "q8", "q8-damped": "q8",
+          "iga-damped": "iga",
           "q8-consistent-cholesky": "q8", "iga": "iga", "iga-consistent": "iga",
           "iga-corrector": "iga", "iga-consistent-cg": "iga", "iga-consistent-cholesky": "iga"}
 STREAM_SPREAD, KU_SPREAD, NP2_STREAM = 1.15, 1.12, 1.5

@@ -123,7 +123,9 @@ program ictus_bench
     dt = model%safety*2.0_dp/omega
   end if
   if (contact%npairs > 0) call contact_step_init(cs, contact, model%x0, dom)
+  ! the nodal damping coefficients of *DAMPING, as a run takes them (driver)
   allocate(alpha(dom%nlocal), source=0.0_dp)
+  where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
   call state_init(s, ops%k, mop, dom, model%u_fixed(:, dom%halo%gid), &
       model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
   n = dom%nowned

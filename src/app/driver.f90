@@ -467,7 +467,7 @@ contains
           'solve did not converge at the start')
     end if
     call log_info('results: '//out)
-    ! sweeps of several steps over K where no output falls between (lumped mass, no damping)
+    ! sweeps of several steps over K where no output falls between (lumped mass)
     allocate(sync(dom%nowned), source=.false.)
     if (contact%npairs > 0) then
       do k = 1, cs%ncn

@@ -14,21 +14,22 @@
 !! the mass-weighted mean of the element coefficients around the node.
 !! Vectors hold this rank's owned nodes followed by its ghosts; updates run over owned nodes
 !! and `step_finish` refreshes the ghost displacements. The step allocates nothing.
-!! Without output or damping the predictor takes a fused path that also computes
-!! u_pre = u_n + dt v_pre (s%u_next, swapped in by `step_finish`): for a lumped mass one pass
-!! over K (`fused_lumped_step`), for a consistent mass solved along the lattice directions on
-!! one rank the updates inside the solve's last pass (`mass_step`); both with the bits of the
-!! unfused step.
-!! `step_sweep` runs several undamped lumped-mass steps without output in one sweep over K
+!! Without output the predictor takes a fused path that also computes u_pre = u_n + dt v_pre
+!! (s%u_next, swapped in by `step_finish`): for a lumped mass one pass over K
+!! (`fused_lumped_step`, or `fused_lumped_rows` with damping, which also leaves the terms of
+!! the damping power per node), for an undamped consistent mass solved along the lattice
+!! directions on one rank the updates inside the solve's last pass (`mass_step`); all with
+!! the bits of the unfused step.
+!! `step_sweep` runs several lumped-mass steps without output in one sweep over K
 !! (ictus_solver_sweep), with the same bits as the same number of single steps.
 module ictus_solver_explicit
   use ictus_core_kinds, only: dp
   use ictus_core_memory, only: alloc_stream
-  use ictus_parallel_repro, only: repro_dot
+  use ictus_parallel_repro, only: repro_dot, repro_sum
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_max, allreduce_or
   use ictus_core_timer, only: wall_time
-  use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step
+  use ictus_solver_sparse, only: bsr_t, bsr_matvec, fused_lumped_step, fused_lumped_rows
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, mass_step, &
       mass_steps_fused
   use ictus_solver_domain, only: domain_t
@@ -82,6 +83,9 @@ module ictus_solver_explicit
     real(dp), allocatable :: alpha(:)
     real(dp), allocatable :: m_pos(:)
     logical :: damped = .false.
+    !> Terms of the damping power at t_n per node, (2, nn, stage): left by the fused damped
+    !! step (stage 1) and by each stage of a damped sweep, summed by `add_damping_work`.
+    real(dp), allocatable :: pw(:,:,:)
     !> Energies at time t_n of the last step that computed them.
     real(dp) :: e_kin = 0.0_dp, e_strain = 0.0_dp, e_contact = 0.0_dp, w_ext = 0.0_dp
     real(dp) :: e_time = 0.0_dp
@@ -145,6 +149,7 @@ contains
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)
     s%damped = any(alpha(1:nn) /= 0.0_dp)
+    if (s%damped) call alloc_stream(s%pw, 2, nn, 1, 0.0_dp)
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
     call mass_solve(mop, dom, s%f, s%a, s%ierr)
@@ -165,14 +170,20 @@ contains
     real(dp) :: dt, h, pw
     nn = s%nn
     dt = s%dt
-    s%fused = .not. (record .or. s%damped)
+    s%fused = .not. (record .or. (s%damped .and. mop%consistent))
     if (s%fused .and. .not. mop%consistent) then
       ! the common step in one pass over memory (same operations in the same order as below)
-      call fused_lumped_step(nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, s%v, &
-          s%u_next)
+      if (s%damped) then
+        call fused_lumped_rows(1, nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, &
+            s%v, s%u_next, s%alpha, s%m_pos, s%pw)
+        call add_damping_work(s, s%step, 1)
+      else
+        call fused_lumped_step(nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, s%v, &
+            s%u_next)
+      end if
       return
     end if
-    if (s%fused .and. mass_steps_fused(mop)) then
+    if (s%fused .and. .not. s%damped .and. mass_steps_fused(mop)) then
       ! consistent mass on one rank: the updates of v and u_{n+1} inside the solve's last
       ! pass (same operations as below; s%f holds +K u_n, s%a is not computed)
       call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
@@ -207,6 +218,19 @@ contains
     if (record) call state_energies(s, mop, dom)
   end subroutine step_predict
 
+  !> Adds the work of the damping forces from t_{n-1} to t_n to s%w_acc (trapezoidal rule)
+  !! with the power at t_n summed from s%pw(:, :, stage), the terms the fused damped step of
+  !! step n left there; n = 0 only sets the power. The same sum, in the same order, as the
+  !! repro_dot of the unfused step.
+  subroutine add_damping_work(s, n, stage)
+    type(state_t), intent(inout) :: s
+    integer, intent(in) :: n, stage
+    real(dp) :: pw
+    pw = repro_sum(2*s%nn, s%pw(:, :, stage), 2*s%nglobal)
+    if (n > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt*(s%pw_prev + pw)
+    s%pw_prev = pw
+  end subroutine add_damping_work
+
   !> Second half of a step: u_{n+1} = u_n + dt v_{n+1/2}, t_{n+1} = t_n + dt, and the ghost
   !! displacements refreshed. Contact corrections of v_{n+1/2} (evaluated on
   !! u_pre = u_n + dt v_pre) come before this.
@@ -227,7 +251,7 @@ contains
     s%t = s%t + s%dt
   end subroutine step_finish
 
-  !> Plans sweeps of nstage steps for an undamped lumped-mass state (otherwise, or for
+  !> Plans sweeps of nstage steps for a lumped-mass state (otherwise, or for
   !! nstage = 1, s%sweeps stays false). nstage = 0 (SWEEP STEPS=AUTO) plans SWEEP_AUTO_STEPS,
   !! also with the wide budget, and lets step_window time the sweeps against single steps
   !! before it keeps one of them. x(2, nowned): coordinates of the owned nodes (the strips
@@ -244,7 +268,7 @@ contains
     real(dp) :: row_bytes
     integer :: window, wide, i, ns
     ns = merge(SWEEP_AUTO_STEPS, nstage, nstage == 0)
-    s%sweeps = ns > 1 .and. .not. (mop%consistent .or. s%damped) .and. s%nn > 0
+    s%sweeps = ns > 1 .and. .not. mop%consistent .and. s%nn > 0
     s%kept = s%sweeps
     s%tuning = s%sweeps .and. nstage == 0
     s%has_wide = .false.
@@ -262,6 +286,11 @@ contains
     end do
     call sweep_plan(s%sweep, k%g, ns, window, x, touched)
     s%sweep_bytes = SWEEP_CACHE_BYTES
+    ! the damping power of every stage, summed after the sweep
+    if (s%damped) then
+      deallocate(s%pw)
+      call alloc_stream(s%pw, 2, s%nn, s%sweep%nstage, 0.0_dp)
+    end if
     if (.not. s%tuning) return
     ! the wide plan, where its strips are fewer (on every rank alike: the count of trials
     ! must agree)
@@ -278,7 +307,7 @@ contains
     tune_kinds = merge(3, 2, s%has_wide)
   end function tune_kinds
 
-  !> s%sweep%nstage undamped lumped-mass steps without output in one sweep over K: for each
+  !> s%sweep%nstage lumped-mass steps without output in one sweep over K: for each
   !! step, the zone rows (ghost neighbours, contact nodes and the rows around them), then
   !! `between` (the contact correction), the halo exchange and the swap of u and u_next, as
   !! in step_predict + step_finish; then all steps on the other rows. The same bits as that
@@ -310,8 +339,13 @@ contains
     real(dp), allocatable :: swap(:,:)
     integer :: st
     do st = 1, sw%nstage
-      call sweep_zone_stage(sw, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
-          s%v, s%u_next)
+      if (s%damped) then
+        call sweep_zone_stage(sw, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+            s%v, s%u_next, s%alpha, s%m_pos, s%pw)
+      else
+        call sweep_zone_stage(sw, st, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+            s%v, s%u_next)
+      end if
       s%fused = .true.
       call between()
       call halo_exchange(dom%halo, s%u_next)
@@ -322,7 +356,19 @@ contains
       s%t = s%t + s%dt
     end do
     ! the arrays of stage 0 (a) and stage 1 (b): after an even number of swaps s%u is a
-    if (mod(sw%nstage, 2) == 0) then
+    if (s%damped) then
+      if (mod(sw%nstage, 2) == 0) then
+        call sweep_rows(sw, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
+            s%u_next, s%v, s%alpha, s%m_pos, s%pw)
+      else
+        call sweep_rows(sw, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u_next, &
+            s%u, s%v, s%alpha, s%m_pos, s%pw)
+      end if
+      ! the damping work of each step, in step order
+      do st = 1, sw%nstage
+        call add_damping_work(s, s%step - sw%nstage + st - 1, st)
+      end do
+    else if (mod(sw%nstage, 2) == 0) then
       call sweep_rows(sw, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, s%dt, s%u, &
           s%u_next, s%v)
     else
@@ -331,7 +377,7 @@ contains
     end if
   end subroutine sweep_steps
 
-  !> s%sweep%nstage undamped lumped-mass steps without output (needs s%sweeps): one sweep,
+  !> s%sweep%nstage lumped-mass steps without output (needs s%sweeps): one sweep,
   !! or single steps (step_predict, `between`, step_finish) when the tuning chose them. While
   !! s%tuning, the windows go in trials of SWEEP_TUNE_WINDOWS, cycling through the kinds
   !! (single steps, sweeps, wide sweeps where planned); after SWEEP_TUNE_ROUNDS trials of

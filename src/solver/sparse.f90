@@ -278,19 +278,27 @@ contains
 
   !> The fused lumped step on rows lo .. lo + len - 1 only (`fused_lumped_step` for all rows;
   !! the sweeps of ictus_solver_sweep run it on runs of rows): v += dt (-K x_in)/m,
-  !! x_out = x_in + dt v, in chunks whose K x_in stays in the L1 cache.
-  subroutine fused_lumped_rows(lo, len, row_ptr, col, val, inv_m, dt, x_in, v, x_out)
+  !! x_out = x_in + dt v, in chunks whose K x_in stays in the L1 cache. With `alpha`, `m_pos`
+  !! and `pw` the damped step of `damped_update` instead.
+  subroutine fused_lumped_rows(lo, len, row_ptr, col, val, inv_m, dt, x_in, v, x_out, alpha, &
+      m_pos, pw)
     integer, intent(in) :: lo, len
     integer, intent(in) :: row_ptr(*), col(*)
     real(dp), intent(in) :: val(2, 2, *), inv_m(2, *), dt
     real(dp), intent(in) :: x_in(2, *)
     real(dp), intent(inout) :: v(2, *), x_out(2, *)
+    real(dp), intent(in), optional :: alpha(*), m_pos(*)
+    real(dp), intent(inout), optional :: pw(2, *)
     integer, parameter :: chunk = 512
     real(dp) :: ku(2, chunk), v1, v2
     integer :: i0, m, l, i
     do i0 = lo, lo + len - 1, chunk
       m = min(chunk, lo + len - i0)
       call bsr_matvec(m, row_ptr(i0), col, val, x_in, ku)
+      if (present(pw)) then
+        call damped_update(i0, m, ku, inv_m, alpha, m_pos, dt, x_in, v, x_out, pw)
+        cycle
+      end if
       do l = 1, m
         i = i0 + l - 1
         v1 = v(1, i) + dt*((-ku(1, l))*inv_m(1, i))
@@ -302,6 +310,34 @@ contains
       end do
     end do
   end subroutine fused_lumped_rows
+
+  !> The update of rows i0 .. i0 + m - 1 of the damped lumped-mass step (the mass-proportional
+  !! damping of ictus_solver_explicit) from ku = K x_in of those rows: a = -ku/m,
+  !! h = alpha dt/2, v_new = ((1 - h) v + dt a)/(1 + h), x_out = x_in + dt v_new, and the
+  !! terms of the damping power at t_n, pw(c, i) = (-(alpha m_pos) v_mid) v_mid in
+  !! component c with v_mid = (v + v_new)/2 (their sum over all nodes and components is the
+  !! power). alpha and m_pos: the node's damping coefficient and positive lumped mass. The
+  !! operations of the unfused damped step in the same order, so the same bits.
+  subroutine damped_update(i0, m, ku, inv_m, alpha, m_pos, dt, x_in, v, x_out, pw)
+    integer, intent(in) :: i0, m
+    real(dp), intent(in) :: ku(2, m), inv_m(2, *), alpha(*), m_pos(*), dt, x_in(2, *)
+    real(dp), intent(inout) :: v(2, *), x_out(2, *), pw(2, *)
+    real(dp) :: h, am, vn1, vn2, vm1, vm2
+    integer :: l, i
+    do l = 1, m
+      i = i0 + l - 1
+      h = 0.5_dp*alpha(i)*dt
+      vn1 = ((1.0_dp - h)*v(1, i) + dt*((-ku(1, l))*inv_m(1, i)))/(1.0_dp + h)
+      vn2 = ((1.0_dp - h)*v(2, i) + dt*((-ku(2, l))*inv_m(2, i)))/(1.0_dp + h)
+      vm1 = 0.5_dp*(v(1, i) + vn1)
+      vm2 = 0.5_dp*(v(2, i) + vn2)
+      am = alpha(i)*m_pos(i)
+      pw(1, i) = (-(am*vm1))*vm1
+      pw(2, i) = (-(am*vm2))*vm2
+      v(:, i) = [vn1, vn2]
+      x_out(:, i) = [x_in(1, i) + dt*vn1, x_in(2, i) + dt*vn2]
+    end do
+  end subroutine damped_update
 
   !> y = (A ⊗ I2) x for the scalar matrix acting on both components, on its n rows.
   subroutine csr_matvec(n, row_ptr, col, val, x, y)

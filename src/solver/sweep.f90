@@ -20,6 +20,12 @@
 !! the stencil is symmetric. Every row does exactly the operations of `fused_lumped_step`, in
 !! the same order, so the result is bit for bit that of nstage separate steps.
 !!
+!! Mass-proportional damping changes only the update of each row (`fused_lumped_rows` with
+!! the damping arguments). The
+!! work of the damping forces needs the power of every step, a global sum over the nodes: each
+!! row leaves its terms of stage k in pw(:, row, k), and the caller sums them stage by stage
+!! after the sweep, with the reproducible sum a single step uses, so the work has its bits too.
+!!
 !! Rows that take part in something between two steps — rows with ghost neighbours (the halo
 !! exchange of each step) and contact nodes (the contact correction) — form the set R. They
 !! and the rows around them are done first, stage by stage ("zones"), with the exchange or
@@ -262,32 +268,53 @@ contains
   end subroutine sweep_plan
 
   !> Stage k on the rows of its zone: reads x_in (stage k-1, ghosts current), writes x_out.
-  subroutine sweep_zone_stage(sw, k, row_ptr, col, val, inv_m, dt, x_in, v, x_out)
+  !! With `alpha`, `m_pos` and `pw` the damped step (`fused_lumped_rows`), whose power terms
+  !! of stage k go to pw(:, :, k).
+  subroutine sweep_zone_stage(sw, k, row_ptr, col, val, inv_m, dt, x_in, v, x_out, alpha, &
+      m_pos, pw)
     type(sweep_t), intent(in) :: sw
     integer, intent(in) :: k
     integer, intent(in) :: row_ptr(:), col(*)
     real(dp), intent(in) :: val(2, 2, *), inv_m(2, *), dt
     real(dp), intent(in) :: x_in(2, *)
     real(dp), intent(inout) :: v(2, *), x_out(2, *)
+    real(dp), intent(in), optional :: alpha(*), m_pos(*)
+    real(dp), intent(inout), optional :: pw(2, sw%n, *)
     integer :: r
     do r = sw%zone_ptr(k), sw%zone_ptr(k + 1) - 1
-      call fused_lumped_rows(sw%zone_lo(r), sw%zone_len(r), row_ptr, col, val, inv_m, dt, &
-          x_in, v, x_out)
+      if (present(pw)) then
+        call fused_lumped_rows(sw%zone_lo(r), sw%zone_len(r), row_ptr, col, val, inv_m, dt, &
+            x_in, v, x_out, alpha, m_pos, pw(1, 1, k))
+      else
+        call fused_lumped_rows(sw%zone_lo(r), sw%zone_len(r), row_ptr, col, val, inv_m, dt, &
+            x_in, v, x_out)
+      end if
     end do
   end subroutine sweep_zone_stage
 
   !> All stages on the rows outside the zones, slot by slot. a holds the displacements before
-  !! the sweep, b receives stage 1; stage k reads the array stage k-1 wrote.
-  subroutine sweep_rows(sw, row_ptr, col, val, inv_m, dt, a, b, v)
+  !! the sweep, b receives stage 1; stage k reads the array stage k-1 wrote. Damping as in
+  !! `sweep_zone_stage`.
+  subroutine sweep_rows(sw, row_ptr, col, val, inv_m, dt, a, b, v, alpha, m_pos, pw)
     type(sweep_t), intent(in) :: sw
     integer, intent(in) :: row_ptr(:), col(*)
     real(dp), intent(in) :: val(2, 2, *), inv_m(2, *), dt
     real(dp), intent(inout) :: a(2, *), b(2, *), v(2, *)
+    real(dp), intent(in), optional :: alpha(*), m_pos(*)
+    real(dp), intent(inout), optional :: pw(2, sw%n, *)
     integer :: t, k, r
     do t = 1, sw%nslot
       do k = 1, sw%nstage
         do r = sw%run_ptr(t, k), sw%run_ptr(t + 1, k) - 1
-          if (mod(k, 2) == 1) then
+          if (present(pw)) then
+            if (mod(k, 2) == 1) then
+              call fused_lumped_rows(sw%run_lo(r), sw%run_len(r), row_ptr, col, val, inv_m, &
+                  dt, a, v, b, alpha, m_pos, pw(1, 1, k))
+            else
+              call fused_lumped_rows(sw%run_lo(r), sw%run_len(r), row_ptr, col, val, inv_m, &
+                  dt, b, v, a, alpha, m_pos, pw(1, 1, k))
+            end if
+          else if (mod(k, 2) == 1) then
             call fused_lumped_rows(sw%run_lo(r), sw%run_len(r), row_ptr, col, val, inv_m, dt, &
                 a, v, b)
           else

@@ -21,9 +21,14 @@ singly): they must give the same bits on any number of ranks, and the same bits 
 with SWEEP STEPS=1 (one step per pass over K) and as the runs on 1 and 2 ranks with the
 default SWEEP STEPS=AUTO, whose first windows alternate between sweeps and single steps
 before the faster is kept (the log must say which); on the long strip q4_long_sweep AUTO on
-one rank also times the plan of wide strips (the log must say so).
+one rank also times the plan of wide strips (the log must say so). The cases named
+*_damped_sweep add mass-proportional damping (with contact for the Hertz one): the damped
+steps between records run in one pass over K and in sweeps, and must also give the bits of the
+run that records every step, whose steps all take the unfused damped update (every field
+snapshot, and the history rows of the records both runs make, the damping work included).
 """
 import os
+import re
 import sys
 
 import numpy as np
@@ -97,6 +102,45 @@ def long_deck():
             + "TOP, 1, 0.5\n*MASS, TYPE=ROW SUM\n" + SWEEP_STEP.replace("0, 1.5", "0, 1.2"))
 
 
+def compare_unfused(chk, args, tag, text, ref):
+    """The run recording the history every step (every step unfused) against ref, the run
+    of `text` on one rank: the same bits in every field snapshot and in the history rows at
+    the records ref made."""
+    every = os.path.join(args.work, tag + "_every.inp")
+    with open(every, "w") as f:
+        f.write(re.sub(r"HISTORY, EVERY=\d+", "HISTORY, EVERY=1", text))
+    out = os.path.join(args.work, tag + "_every.h5")
+    # (every step records, so every step takes the unfused update of step_predict)
+    vcheck.run_ictus(args, every, out, np=1)
+    full = vcheck.Results(out)
+    t_ref, t_full = ref.history("time"), full.history("time")
+    rows = np.searchsorted(t_full, t_ref)
+    same = bool(np.all(rows < len(t_full))) and np.array_equal(t_full[np.minimum(
+        rows, len(t_full) - 1)], t_ref)
+    names = []
+    ref.f["history"].visit(lambda k: names.append(k) if hasattr(ref.f["history"][k], "shape")
+                           else None)
+    for k in names:
+        if not same:
+            break
+        if not np.array_equal(ref.history(k), full.history(k)[rows]):
+            same = False
+            print(f"    differs: history/{k}")
+    chk.true(same, f"{tag}: the history rows of its {len(t_ref)} records have the bits of "
+             f"the run recording every step ({len(names)} datasets)")
+    steps = ref.field_steps()
+    same = steps == full.field_steps()
+    for st in steps if same else []:
+        for k in ref.f["fields/" + st].keys():
+            if not np.array_equal(ref.field(st, k), full.field(st, k)):
+                same = False
+                print(f"    differs: fields/{st}/{k}")
+    chk.true(same, f"{tag}: its {len(steps)} field snapshots have the bits of the run "
+             "recording every step")
+    w = ref.history("energy/external_work")
+    chk.true(w[-1] < 0.0, f"{tag}: the damping does work (external_work {w[-1]:.4g})")
+
+
 def compare(chk, tag, ref, other, n):
     a, b = ref.f, other.f
     names = []
@@ -137,11 +181,17 @@ def main():
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
                                                              dt=2e-4, t_end=0.2), "test"),
              "q4_rowsum_sweep": fe_deck("Q4", "*MASS, TYPE=ROW SUM", step=SWEEP_STEP),
+             "q8_hrz_damped_sweep": fe_deck("Q8", "*MASS, TYPE=HRZ", "*DAMPING, ALPHA=2.0\n",
+                                            step=SWEEP_STEP),
              # lines of 601 nodes: the default strips of a sweep are two, the wide ones one,
              # so SWEEP STEPS=AUTO times the wide plan as a third kind
              "q4_long_sweep": long_deck(),
              "hertz_iga_hrz_sweep": hertz.deck(hertz.options(
                  kind="iga", mass="HRZ", subdivide=8, t_end=0.3, field_every=200),
+                 "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n").replace(
+                 "*DYNAMIC, EXPLICIT", "*DYNAMIC, EXPLICIT, SWEEP STEPS=6"),
+             "hertz_iga_hrz_damped_sweep": hertz.deck(hertz.options(
+                 kind="iga", mass="HRZ", subdivide=8, t_end=0.3, field_every=200, alpha=3.0),
                  "test").replace("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n").replace(
                  "*DYNAMIC, EXPLICIT", "*DYNAMIC, EXPLICIT, SWEEP STEPS=6")}
     for tag, text in cases.items():
@@ -174,6 +224,8 @@ def main():
             _, log = vcheck.run_ictus(args, single, out, np=1)
             chk.true("sweeps:" not in log, f"{tag}: SWEEP STEPS=1 runs one step per pass")
             compare(chk, tag + " vs SWEEP STEPS=1", vcheck.Results(out), results[1], 1)
+            if "_damped" in tag:
+                compare_unfused(chk, args, tag, text, results[1])
             auto = os.path.join(args.work, tag + "_auto.inp")
             with open(auto, "w") as f:
                 f.write(text.replace(", SWEEP STEPS=6", ""))

@@ -1,10 +1,12 @@
 !> Sweeps of several lumped-mass steps over K (ictus_solver_sweep): the schedule does every
 !! (stage, row) once and only after the stencil's previous stage, and the sweep gives the bits
-!! of the same number of single fused steps.
+!! of the same number of single fused steps, undamped and with mass-proportional damping (then
+!! also the terms of the damping power of every stage, and the single damped step those of the
+!! unfused step written out here).
 program test_sweep
   use ictus_core_kinds, only: dp
   use ictus_solver_sparse, only: graph_t, bsr_t, graph_from_elements, bsr_init, &
-      bsr_add_element, fused_lumped_step
+      bsr_add_element, fused_lumped_step, fused_lumped_rows, bsr_matvec
   use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows
   use ictus_test_check, only: checker_t
   implicit none
@@ -14,9 +16,12 @@ program test_sweep
   call test_schedule(t, nstage=6, window=8, ghosts=.false., contact=.true.)
   call test_schedule(t, nstage=4, window=16, ghosts=.true., contact=.true.)
   call test_schedule(t, nstage=8, window=1000, ghosts=.true., contact=.false.)
-  call test_bits(t, nstage=6, window=8)
-  call test_bits(t, nstage=5, window=12)
-  call test_bits(t, nstage=2, window=1000)
+  call test_bits(t, nstage=6, window=8, damped=.false.)
+  call test_bits(t, nstage=5, window=12, damped=.false.)
+  call test_bits(t, nstage=2, window=1000, damped=.false.)
+  call test_bits(t, nstage=6, window=8, damped=.true.)
+  call test_bits(t, nstage=5, window=12, damped=.true.)
+  call test_bits(t, nstage=2, window=1000, damped=.true.)
   call t%finish()
 contains
 
@@ -159,17 +164,23 @@ contains
   end function in_zone
 
   !> nstage fused single steps against one sweep (with contact rows stepped in the zones) on a
-  !! pseudo-random symmetric block matrix: the same bits for u and v.
-  subroutine test_bits(t, nstage, window)
+  !! pseudo-random symmetric block matrix: the same bits for u and v. With `damped`, a
+  !! pseudo-random damping coefficient per node (zero on some): the single steps are checked
+  !! against the unfused damped step written out, and the sweep against the single steps,
+  !! the power terms of each stage included.
+  subroutine test_bits(t, nstage, window, damped)
     type(checker_t), intent(inout) :: t
     integer, intent(in) :: nstage, window
+    logical, intent(in) :: damped
     type(graph_t) :: g
     type(bsr_t) :: k
     type(sweep_t) :: sw
     real(dp), allocatable :: x(:,:), u(:,:), v(:,:), un(:,:), a(:,:), b(:,:), w(:,:), &
-        inv_m(:,:)
+        inv_m(:,:), alpha(:), m_pos(:), pw(:,:,:), pw_ref(:,:,:), f(:,:), acc(:,:), &
+        vo(:,:), vm(:,:)
     logical, allocatable :: sync(:)
-    real(dp) :: ke(8, 8), dt
+    logical :: unfused_same
+    real(dp) :: ke(8, 8), dt, h
     integer :: n, e, i, j, st, nx, ny, c
     character(len=60) :: tag
     nx = 40
@@ -196,29 +207,72 @@ contains
       inv_m(:, i) = 1.0_dp/(1.0_dp + 0.5_dp*abs(sin(real(i, dp))))
     end do
     inv_m(:, 1:nx + 1) = 0.0_dp
+    allocate(alpha(n), m_pos(n), pw(2, n, nstage), pw_ref(2, n, nstage))
+    do i = 1, n
+      alpha(i) = max(0.0_dp, 3.0_dp*sin(0.37_dp*i))
+      m_pos(i) = 1.0_dp/inv_m(1, max(i, nx + 2))
+    end do
     dt = 0.05_dp
     a = u
     b = 0.0_dp*u
     w = v
-    ! reference: nstage single fused steps
+    ! reference: nstage single fused steps; damped, each checked against the unfused step
+    ! (K u, a = f/m, the damped update, the mean velocity and the power terms, as
+    ! ictus_solver_explicit writes them)
+    unfused_same = .true.
+    allocate(f(2, n), acc(2, n), vo(2, n), vm(2, n))
     do st = 1, nstage
-      call fused_lumped_step(n, g%row_ptr, g%col, k%val, inv_m, dt, u, v, un)
+      if (damped) then
+        call bsr_matvec(n, g%row_ptr, g%col, k%val, u, f)
+        f = -f
+        acc = f*inv_m
+        vo = v
+        do i = 1, n
+          h = 0.5_dp*alpha(i)*dt
+          vo(:, i) = ((1.0_dp - h)*v(:, i) + dt*acc(:, i))/(1.0_dp + h)
+        end do
+        vm = 0.5_dp*(v + vo)
+        do i = 1, n
+          f(:, i) = -alpha(i)*m_pos(i)*vm(:, i)
+        end do
+        call fused_lumped_rows(1, n, g%row_ptr, g%col, k%val, inv_m, dt, u, v, un, alpha, &
+            m_pos, pw_ref(:, :, st))
+        unfused_same = unfused_same .and. all(v == vo) .and. all(un == u + dt*vo) .and. &
+            all(pw_ref(:, :, st) == f*vm)
+      else
+        call fused_lumped_step(n, g%row_ptr, g%col, k%val, inv_m, dt, u, v, un)
+      end if
       u = un
     end do
+    if (damped) call t%true(unfused_same, 'damped single steps: the bits of the unfused step')
     ! the sweep, with a "contact line" in the middle stepped in the zones
     allocate(sync(n))
     sync = x(2, 1:n) == real(ny/2, dp) .or. &
         max(abs(x(1, 1:n) - 5.0_dp), abs(x(2, 1:n) - 5.0_dp)) == 1.0_dp
     call sweep_plan(sw, g, nstage, window, x, sync)
+    pw = huge(1.0_dp)
     do st = 1, nstage
-      if (mod(st, 2) == 1) then
+      if (damped .and. mod(st, 2) == 1) then
+        call sweep_zone_stage(sw, st, g%row_ptr, g%col, k%val, inv_m, dt, a, w, b, alpha, &
+            m_pos, pw)
+      else if (damped) then
+        call sweep_zone_stage(sw, st, g%row_ptr, g%col, k%val, inv_m, dt, b, w, a, alpha, &
+            m_pos, pw)
+      else if (mod(st, 2) == 1) then
         call sweep_zone_stage(sw, st, g%row_ptr, g%col, k%val, inv_m, dt, a, w, b)
       else
         call sweep_zone_stage(sw, st, g%row_ptr, g%col, k%val, inv_m, dt, b, w, a)
       end if
     end do
-    call sweep_rows(sw, g%row_ptr, g%col, k%val, inv_m, dt, a, b, w)
-    write(tag, '(a,i0,a,i0)') 'nstage ', nstage, ', window ', window
+    if (damped) then
+      call sweep_rows(sw, g%row_ptr, g%col, k%val, inv_m, dt, a, b, w, alpha, m_pos, pw)
+    else
+      call sweep_rows(sw, g%row_ptr, g%col, k%val, inv_m, dt, a, b, w)
+    end if
+    write(tag, '(a,i0,a,i0,a)') 'nstage ', nstage, ', window ', window, &
+        trim(merge(', damped', '        ', damped))
+    if (damped) call t%true(all(pw == pw_ref), trim(tag)//': the power terms of every stage '// &
+        'have the bits of single steps')
     if (mod(nstage, 2) == 0) then
       call t%true(all(a == u), trim(tag)//': u has the bits of single steps')
     else
