@@ -2,7 +2,9 @@
 """Restart: a run stopped at a wall-time limit and continued from its checkpoint, by the
 cluster job logic (scripts/cluster/ictus-job.sh), on a different number of ranks, finishes
 with a results file identical to an uninterrupted run; a leftover partial checkpoint does not
-matter; a checkpoint of another deck is refused.
+matter; a checkpoint of another deck is refused. The same identity holds for a damped
+relaxation whose steps between records run as sweeps of several steps (the damping work
+crosses the restart in the checkpoint).
 
 Deck: the dynamic Hertz problem (NURBS, HRZ, 8 x 8 spans, contact), 1800 steps, with
 *RESTART, WRITE, EVERY=200. Identity is checked dataset by dataset, to the bit (ictus keeps the
@@ -84,6 +86,32 @@ def main():
     chk.true(p.returncode == 0 and "completed" in p.stdout, "the chain completes")
     chk.true(not os.path.exists(out[:-3] + ".chk.h5"), "the checkpoint is removed at the end")
     same_results(chk, ref, vcheck.Results(out), "chained run (np 2 then 3)")
+
+    # damped sweeps across a restart: the static Hertz relaxation (Q8, *DAMPING, a rigid wall)
+    # recording every 10 steps, so that the damped steps in between run as sweeps of 6 steps
+    damped = open(os.path.join(vcheck.ROOT, "input", "hertz", "static_q8.inp")).read()
+    for old, new in (("*DYNAMIC, EXPLICIT\n", "*DYNAMIC, EXPLICIT, SWEEP STEPS=6\n"),
+                     ("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n"),
+                     ("*END STEP", "*RESTART, WRITE, EVERY=100\n*END STEP")):
+        chk.true(damped.count(old) == 1, f"damped deck: {old.strip()!r} found once")
+        damped = damped.replace(old, new)
+    ddeck = os.path.join(args.work, "damped.inp")
+    with open(ddeck, "w") as f:
+        f.write(damped)
+    dref_out = os.path.join(args.work, "damped_ref.h5")
+    _, log = vcheck.run_ictus(args, ddeck, dref_out, np=1)
+    chk.true("sweeps: 6 steps per sweep" in log, "damped relaxation runs sweeps of 6 steps")
+    dloop = float(re.search(r"wall time: ([0-9.eE+-]+) s", log).group(1))
+    dout = os.path.join(args.work, "damped.h5")
+    for p in (dout, dout[:-3] + ".chk.h5"):
+        if os.path.exists(p):
+            os.remove(p)
+    vcheck.run_ictus(args, ddeck, dout, np=1, extra=["--wall-time", f"{max(dloop / 3.0, 0.01):.4f}"],
+                     expect_status=3)
+    vcheck.run_ictus(args, ddeck, dout, np=1, extra=["--restart", dout[:-3] + ".chk.h5"])
+    dref = vcheck.Results(dref_out)
+    chk.true(dref.history("energy/external_work")[-1] < 0.0, "the damping does work")
+    same_results(chk, dref, vcheck.Results(dout), "damped sweeps, stopped and restarted")
 
     # a checkpoint of another deck is refused (exit 1, message), nothing is overwritten
     vcheck.run_ictus(args, deck, os.path.join(args.work, "periodic.h5"), np=1,
