@@ -148,7 +148,10 @@ contains
     s%u = u0
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)
+    ! on every rank alike: the damped step has a global sum (the damping power), and a rank
+    ! whose nodes have no damping takes the damped update with h = 0, the undamped bits
     s%damped = any(alpha(1:nn) /= 0.0_dp)
+    call allreduce_or(s%damped)
     if (s%damped) call alloc_stream(s%pw, 2, nn, 1, 0.0_dp)
     call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
