@@ -271,7 +271,9 @@ contains
     real(dp) :: row_bytes
     integer :: window, wide, i, ns
     ns = merge(SWEEP_AUTO_STEPS, nstage, nstage == 0)
-    s%sweeps = ns > 1 .and. .not. mop%consistent .and. s%nn > 0
+    ! on every rank alike, one that owns no node included (its plan is empty): the exchanges
+    ! between steps and the tuning's sums must match
+    s%sweeps = ns > 1 .and. .not. mop%consistent
     s%kept = s%sweeps
     s%tuning = s%sweeps .and. nstage == 0
     s%has_wide = .false.
@@ -280,7 +282,7 @@ contains
     s%tune_time = huge(1.0_dp)
     if (.not. s%sweeps) return
     ! about SWEEP_CACHE_BYTES of K between a row's stage 1 and its last stage
-    row_bytes = 36.0_dp*real(size(k%g%col), dp)/real(s%nn, dp)
+    row_bytes = 36.0_dp*real(max(1, size(k%g%col)), dp)/real(max(1, s%nn), dp)
     window = max(32, int(real(SWEEP_CACHE_BYTES, dp)/(real(ns - 1, dp)*row_bytes)))
     ! the nodes the halo exchange sends take part between steps too
     touched = sync(1:s%nn)

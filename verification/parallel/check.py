@@ -21,7 +21,8 @@ singly): they must give the same bits on any number of ranks, and the same bits 
 with SWEEP STEPS=1 (one step per pass over K) and as the runs on 1 and 2 ranks with the
 default SWEEP STEPS=AUTO, whose first windows alternate between sweeps and single steps
 before the faster is kept (the log must say which); on the long strip q4_long_sweep AUTO on
-one rank also times the plan of wide strips (the log must say so). The cases named
+one rank also times the plan of wide strips (the log must say so). q4_empty_rank (two Q4
+elements) leaves a rank without nodes on 4 ranks, with the default SWEEP STEPS=AUTO timing sweeps. The cases named
 *_damped_sweep add mass-proportional damping (with contact for the Hertz one, damped on the
 upper body only, so that some ranks hold no damped node and must still join its sums): the damped
 steps between records run in one pass over K and in sweeps, and must also give the bits of the
@@ -103,6 +104,16 @@ def long_deck():
             + "TOP, 1, 0.5\n*MASS, TYPE=ROW SUM\n" + SWEEP_STEP.replace("0, 1.5", "0, 1.2"))
 
 
+def tiny_deck():
+    """Two Q4 elements (6 nodes), lumped, recording every 25 steps with the default
+    SWEEP STEPS=AUTO: on 4 ranks METIS leaves a rank without nodes, which must still take part
+    in the sweeps' exchanges and the tuning's sums."""
+    return ("*HEADING\nparallel determinism, a rank without nodes\n" + vcheck.material_block()
+            + vcheck.rect_mesh(type="Q4", nx=2, ny=1, lx=2.0, ly=1.0)
+            + "*BOUNDARY\nLEFT, 1, 2\n*INITIAL CONDITIONS, TYPE=VELOCITY\nBODY, 2, -1.0\n"
+            + "*MASS, TYPE=ROW SUM\n" + FUSED_STEP.replace("0, 1.5", "0, 3.0"))
+
+
 def compare_unfused(chk, args, tag, text, ref):
     """The run recording the history every step (every step unfused) against ref, the run
     of `text` on one rank: the same bits in every field snapshot and in the history rows at
@@ -182,6 +193,7 @@ def main():
              "hertz_q8_consistent": hertz.deck(hertz.options(kind="q8", mass="CONSISTENT", n=6,
                                                              dt=2e-4, t_end=0.2), "test"),
              "q4_rowsum_sweep": fe_deck("Q4", "*MASS, TYPE=ROW SUM", step=SWEEP_STEP),
+             "q4_empty_rank": tiny_deck(),
              "q8_hrz_damped_sweep": fe_deck("Q8", "*MASS, TYPE=HRZ", "*DAMPING, ALPHA=2.0\n",
                                             step=SWEEP_STEP),
              # lines of 601 nodes: the default strips of a sweep are two, the wide ones one,
@@ -245,6 +257,10 @@ def main():
                     chk.true("and against wide strips" in log and "ms in one sweep of wide "
                              "strips" in log, f"{tag}: np = {n} times the wide strips too")
                 compare(chk, f"{tag} with SWEEP STEPS=AUTO", results[1], vcheck.Results(out), n)
+        if tag == "q4_empty_rank":
+            owners = set(results[4].model("partition").tolist())
+            chk.true(len(owners) < 4, f"{tag}: np = 4 leaves a rank without nodes (owners "
+                     f"{sorted(owners)})")
         if tag == "hertz_iga_hrz_damped_sweep":
             chk.true("PATCH=UPPER" in text, f"{tag}: the damping acts on the upper body only")
             free = []
