@@ -173,6 +173,7 @@ contains
     real(dp) :: dt, h, pw
     nn = s%nn
     dt = s%dt
+    ! a damped consistent step takes the unfused path below
     s%fused = .not. (record .or. (s%damped .and. mop%consistent))
     if (s%fused .and. .not. mop%consistent) then
       ! the common step in one pass over memory (same operations in the same order as below)
@@ -186,7 +187,7 @@ contains
       end if
       return
     end if
-    if (s%fused .and. .not. s%damped .and. mass_steps_fused(mop)) then
+    if (s%fused .and. mass_steps_fused(mop)) then
       ! consistent mass on one rank: the updates of v and u_{n+1} inside the solve's last
       ! pass (same operations as below; s%f holds +K u_n, s%a is not computed)
       call bsr_matvec(nn, k%g%row_ptr, k%g%col, k%val, s%u, s%f)
