@@ -11,6 +11,7 @@ program test_sparse
   call t%start("solver/sparse")
   call test_assembly_and_products(t)
   call test_partitions(t)
+  call test_summation_order(t)
   call t%finish()
 contains
 
@@ -229,4 +230,62 @@ contains
     if (any(vl(:, 1:nown) /= vg(:, gid(1:nown)) + dt*((-y(:, 1:nown))*iml(:, 1:nown)))) &
         u_next = huge(1.0_dp)
   end subroutine part_product
+
+  !> bsr_matvec sums each row in the documented order, bit for bit: each block's two
+  !! products first, then the blocks alternately into two partial sums (odd and even
+  !! positions), added at the end. The reproducible results across ranks rest on this order,
+  !! and the kernel is C (bsr_kernel.c), so the order is written out here in Fortran again.
+  !! Rows of 1 to 40 blocks (odd and even counts), scattered columns, values of mixed signs
+  !! and magnitudes (so that another order would change the bits); the whole matrix at once
+  !! and in chunks of rows as the fused step calls it; the arrays are exactly as long as the
+  !! matrix, so the prefetch runs past their end (it must not fault).
+  subroutine test_summation_order(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: n = 400, ncol = 997
+    integer :: row_ptr(n + 1), i, k, m, j, i0, nbad
+    integer, allocatable :: col(:)
+    real(dp), allocatable :: val(:,:,:)
+    real(dp) :: x(2, ncol), y(2, n), yc(2, n), a1, a2, b1, b2, p1, p2
+    row_ptr(1) = 1
+    do i = 1, n
+      row_ptr(i + 1) = row_ptr(i) + 1 + mod(7*i, 40)
+    end do
+    m = row_ptr(n + 1) - 1
+    allocate(col(m), val(2, 2, m))
+    do k = 1, m
+      col(k) = 1 + mod(37*k + k*k, ncol)
+      val(:, 1, k) = [sin(1.3_dp*k)*10.0_dp**mod(k, 7), cos(0.7_dp*k)]
+      val(:, 2, k) = [-sin(2.1_dp*k)*10.0_dp**(-mod(k, 5)), cos(3.1_dp*k)*1.0e3_dp]
+    end do
+    do j = 1, ncol
+      x(:, j) = [sin(0.37_dp*j)*10.0_dp**mod(j, 4), -cos(0.91_dp*j)]
+    end do
+    call bsr_matvec(n, row_ptr, col, val, x, y)
+    nbad = 0
+    do i = 1, n
+      a1 = 0.0_dp
+      a2 = 0.0_dp
+      b1 = 0.0_dp
+      b2 = 0.0_dp
+      do k = row_ptr(i), row_ptr(i + 1) - 1
+        j = col(k)
+        p1 = val(1, 1, k)*x(1, j) + val(1, 2, k)*x(2, j)
+        p2 = val(2, 1, k)*x(1, j) + val(2, 2, k)*x(2, j)
+        if (mod(k - row_ptr(i), 2) == 0) then
+          a1 = a1 + p1
+          a2 = a2 + p2
+        else
+          b1 = b1 + p1
+          b2 = b2 + p2
+        end if
+      end do
+      if (y(1, i) /= a1 + b1 .or. y(2, i) /= a2 + b2) nbad = nbad + 1
+    end do
+    call t%equal_int(nbad, 0, "bsr_matvec: rows of 1-40 blocks summed in the documented order")
+    yc = huge(1.0_dp)
+    do i0 = 1, n, 37
+      call bsr_matvec(min(37, n - i0 + 1), row_ptr(i0), col, val, x, yc(1, i0))
+    end do
+    call t%true(all(yc == y), "bsr_matvec: in chunks of 37 rows, the same bits")
+  end subroutine test_summation_order
 end program test_sparse
