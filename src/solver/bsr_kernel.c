@@ -20,8 +20,9 @@
  */
 #include <stdint.h>
 
-/* How far ahead of the current block the stream is prefetched (bytes): 4-16 KiB measured
- * within a few per cent of each other on the Zen 5 host, none at all 1.3-1.4 x slower. */
+/* How far ahead of the current block the stream is prefetched (bytes). On the Zen 5 host
+ * 6-12 KiB are within 3 % of each other, 4 and 16 KiB about 5 % slower, no prefetch
+ * 1.3-1.4 x slower on meshes beyond the caches and the same in them. */
 enum { PREFETCH_BYTES = 8192 };
 
 void ictus_bsr_matvec(int n, const int *restrict row_ptr, const int *restrict col,
