@@ -226,11 +226,12 @@ contains
   !> y = A x for the block matrix on its n rows; x(2, *) holds owned and ghost values.
   !! Each block's two products are added first; the blocks of a row go alternately into two
   !! partial sums (odd and even positions), added at the end. The two chains of dependent
-  !! additions run in parallel (measured: doc/performance.md §3.1); the order is a fixed
+  !! additions run in parallel (measured: doc/performance-history.md §3.1); the order is a fixed
   !! function of the row, whose columns are sorted by global index, so the bits do not
   !! depend on the partition. `fused_lumped_step` sums in the same order. The row loop is
   !! `ictus_bsr_matvec` (bsr_kernel.c): the same operations, plus a software prefetch of the
-  !! block stream, which Fortran cannot express (1.3-1.4 x faster beyond the caches, §3.1).
+  !! block stream, which Fortran cannot express (1.3-1.4 x faster beyond the caches,
+  !! doc/performance.md §3.1).
   subroutine bsr_matvec(n, row_ptr, col, val, x, y)
     integer, intent(in) :: n
     integer, intent(in) :: row_ptr(n + 1), col(*)
