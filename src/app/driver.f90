@@ -467,6 +467,13 @@ contains
           'solve did not converge at the start')
     end if
     call log_info('results: '//out)
+    if (s%ordered .and. s%kup%n > 0) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K ('// &
+          str(36.0_dp*real(size(s%kup%col), dp)/1.0e6_dp, 3)//' MB more; half the bytes '// &
+          'per product)')
+    else if (s%ordered) then
+      call log_info('stiffness product: summed in column order from the full rows of K')
+    end if
     ! sweeps of several steps over K where no output falls between (lumped mass)
     allocate(sync(dom%nowned), source=.false.)
     if (contact%npairs > 0) then

@@ -125,6 +125,11 @@ contains
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call solid2d_stiffness(nen, shp, xl, d, unit_thickness, ke, ierr)
       if (ierr /= 0) cycle
+      ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
+      ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
+      do i = 1, 2*nen - 1
+        ke(i + 1:, i) = ke(i, i + 1:)
+      end do
       call bsr_add_element(ops%k, nen, nodes, ke)
       call solid2d_mass(nen, shp, xl, model%density(mt), unit_thickness, me, mass_e, ierr)
       if (dom%part(e) == dom%rank) then

@@ -12,7 +12,8 @@ module ictus_solver_sparse
   private
   public :: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, csr_init, bsr_add_element, &
       csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col, &
-      graph_copy, csr_copy, fused_lumped_step, fused_lumped_rows
+      graph_copy, csr_copy, fused_lumped_step, fused_lumped_rows, bsr_upper_t, bsr_upper_init, &
+      bsr_matvec_ordered, bsr_upper_matvec
 
   !> Node adjacency graph in CSR form (every node is its own neighbour). Rows exist for the
   !! first `n` (owned) nodes; columns are local node indices 1..ncol, sorted in each row by
@@ -31,6 +32,15 @@ module ictus_solver_sparse
     type(graph_t) :: g
     real(dp), allocatable :: val(:,:,:)
   end type bsr_t
+
+  !> The blocks on and above the diagonal of a symmetric `bsr_t` whose rows are all on this
+  !! rank, numbered in global order (`bsr_upper_init`): the storage of `bsr_upper_matvec`.
+  !! Each row starts with its diagonal block; n = 0 when the matrix does not qualify.
+  type :: bsr_upper_t
+    integer :: n = 0
+    integer, allocatable :: row_ptr(:), col(:)
+    real(dp), allocatable :: val(:,:,:)
+  end type bsr_upper_t
 
   !> Scalar CSR matrix, val(nnz).
   type :: csr_t
@@ -248,6 +258,104 @@ contains
     end interface
     call c_bsr_matvec(n, row_ptr, col, val, x, y)
   end subroutine bsr_matvec
+
+  !> y = A x summed in column order: each row one chain over its blocks in the order of their
+  !! columns (global indices), y_i = ((0 + t_1) + t_2) + ..., with t_k = A_ik(:, 1) x_k1 +
+  !! A_ik(:, 2) x_k2 (`ictus_bsr_matvec_ordered`, bsr_kernel.c). The product of the
+  !! consistent-mass step on any partition: `bsr_upper_matvec` gives the same bits from half
+  !! the storage where one rank holds all rows. Fixed order, so the bits do not depend on the
+  !! partition.
+  subroutine bsr_matvec_ordered(n, row_ptr, col, val, x, y)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(2, 2, *), x(2, *)
+    real(dp), intent(inout) :: y(2, *)
+    interface
+      subroutine c_ordered(n, row_ptr, col, val, x, y) bind(c, name='ictus_bsr_matvec_ordered')
+        import :: c_int, c_double
+        integer(c_int), value :: n
+        integer(c_int), intent(in) :: row_ptr(*), col(*)
+        real(c_double), intent(in) :: val(*), x(*)
+        real(c_double), intent(inout) :: y(*)
+      end subroutine c_ordered
+    end interface
+    call c_ordered(n, row_ptr, col, val, x, y)
+  end subroutine bsr_matvec_ordered
+
+  !> The upper storage of `a` (its diagonal and the blocks to its right) for
+  !! `bsr_upper_matvec`, when `a` qualifies: no ghost columns (one rank holds all rows), the
+  !! local numbering in global order (key increasing), a diagonal block in every row that has
+  !! blocks, and A symmetric bit for bit (A_ji = A_ij^T, as `assemble_operators` builds K).
+  !! Otherwise up%n = 0 and nothing is kept (callers take `bsr_matvec_ordered`, the same
+  !! bits). About half the memory of `a`.
+  subroutine bsr_upper_init(a, up)
+    type(bsr_t), intent(in) :: a
+    type(bsr_upper_t), intent(out) :: up
+    integer :: i, k, nb, n, j, kt
+    n = a%g%n
+    if (n == 0 .or. a%g%ncol /= n) return
+    do i = 2, n
+      if (a%g%key(i) <= a%g%key(i - 1)) return
+    end do
+    nb = 0
+    do i = 1, n
+      do k = a%g%row_ptr(i), a%g%row_ptr(i + 1) - 1
+        j = a%g%col(k)
+        if (j < i) then
+          ! the mirror block A_ji must be the transpose, bit for bit
+          kt = find_col(a%g, j, i)
+          if (kt == 0) return
+          if (any(a%val(:, :, k) /= transpose(a%val(:, :, kt)))) return
+        else
+          nb = nb + 1
+        end if
+      end do
+      if (a%g%row_ptr(i + 1) > a%g%row_ptr(i)) then
+        if (a%g%col(a%g%row_ptr(i)) > i) return
+      end if
+    end do
+    allocate(up%row_ptr(n + 1), up%col(nb))
+    call alloc_stream(up%val, 2, 2, nb, 0.0_dp)
+    nb = 0
+    up%row_ptr(1) = 1
+    do i = 1, n
+      do k = a%g%row_ptr(i), a%g%row_ptr(i + 1) - 1
+        if (a%g%col(k) < i) cycle
+        nb = nb + 1
+        up%col(nb) = a%g%col(k)
+        up%val(:, :, nb) = a%val(:, :, k)
+      end do
+      up%row_ptr(i + 1) = nb + 1
+      ! the diagonal first (columns are sorted; a row with blocks holds its own node)
+      if (up%row_ptr(i + 1) > up%row_ptr(i)) then
+        if (up%col(up%row_ptr(i)) /= i) then
+          deallocate(up%row_ptr, up%col, up%val)
+          return
+        end if
+      end if
+    end do
+    up%n = n
+  end subroutine bsr_upper_init
+
+  !> y = A x from the upper storage (`bsr_upper_init`, up%n > 0): the bits of
+  !! `bsr_matvec_ordered` on the full rows, reading about half the bytes
+  !! (`ictus_bsr_symv`, bsr_kernel.c: the terms of the blocks left of the diagonal are added
+  !! to y_j from row i < j, in the order of i).
+  subroutine bsr_upper_matvec(up, x, y)
+    type(bsr_upper_t), intent(in) :: up
+    real(dp), intent(in) :: x(2, *)
+    real(dp), intent(inout) :: y(2, *)
+    interface
+      subroutine c_symv(n, row_ptr, col, val, x, y) bind(c, name='ictus_bsr_symv')
+        import :: c_int, c_double
+        integer(c_int), value :: n
+        integer(c_int), intent(in) :: row_ptr(*), col(*)
+        real(c_double), intent(in) :: val(*), x(*)
+        real(c_double), intent(inout) :: y(*)
+      end subroutine c_symv
+    end interface
+    call c_symv(up%n, up%row_ptr, up%col, up%val, x, y)
+  end subroutine bsr_upper_matvec
 
   !> The undamped lumped-mass predictor and the displacement update in one pass over memory:
   !! for each owned node i, f_i = -(K u)_i, a_i = f_i/m_i, v_i = v_i + dt a_i,

@@ -22,6 +22,8 @@ program test_kronecker_mass
       MASS_SOLVER_AUTO
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_assemble, only: operators_t, assemble_operators
+  use ictus_solver_sparse, only: bsr_t, bsr_upper_t, bsr_upper_init, bsr_upper_matvec, &
+      bsr_matvec_ordered, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_step, &
       mass_steps_fused
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
@@ -347,6 +349,7 @@ contains
     call build_model(deck, model)
     call domain_init(dom, model, ierr)
     call assemble_operators(model, dom, ops, bad, nbad)
+    call check_upper(t, label, ops%k)
     call tensor_layout(model, lay)
     call mass_op_init(op, dom, ops%consistent, ops%m, ops%m_diag, model%fixed, &
         solver=model%mass_solver, ierr=ierr, layout=lay)
@@ -402,6 +405,33 @@ contains
         all(a(2, :) == 0.0_dp .or. .not. model%fixed(2, :)), label//': 0 on the fixed dofs')
     if (op%solver == MASS_SOLVER_KRONECKER) call check_fused(t, label, op, dom, f)
   end subroutine run_case
+
+  !> The assembled K is symmetric bit for bit (each element matrix's upper triangle
+  !! mirrored), so on one rank its upper blocks qualify for the consistent step's product and
+  !! give the bits of the full rows in column order, and that product is K x to round-off.
+  subroutine check_upper(t, label, k)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: label
+    type(bsr_t), intent(in) :: k
+    type(bsr_upper_t) :: up
+    real(dp), allocatable :: x(:,:), y1(:,:), y2(:,:), y3(:,:)
+    integer :: i, n
+    n = k%g%n
+    call bsr_upper_init(k, up)
+    call t%equal_int(up%n, n, label//': K symmetric bit for bit, upper storage taken')
+    if (up%n /= n) return
+    allocate(x(2, n), y1(2, n), y2(2, n), y3(2, n))
+    do i = 1, n
+      x(:, i) = [sin(0.61_dp*i) + 0.1_dp, cos(1.7_dp*i)]
+    end do
+    call bsr_matvec_ordered(n, k%g%row_ptr, k%g%col, k%val, x, y1)
+    y2 = huge(1.0_dp)
+    call bsr_upper_matvec(up, x, y2)
+    call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, x, y3)
+    call t%true(all(y1 == y2), label//': K x from the upper blocks = full rows, bit for bit')
+    call t%true(maxval(abs(y1 - y3)) <= 1.0e-13_dp*maxval(abs(y3)), label// &
+        ': K x in column order = the two-chain product to round-off')
+  end subroutine check_upper
 
   !> The step's updates folded into the solve (mass_step, taken by one rank) against the
   !! solve of -kf and the updates it replaces: v + dt a and u + dt v, the same bits.

@@ -4,7 +4,8 @@ program test_sparse
   use ictus_core_kinds, only: dp
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       csr_init, bsr_add_element, csr_add_element, bsr_matvec, csr_matvec, csr_row_sums, &
-      csr_diagonal, find_col, fused_lumped_step
+      csr_diagonal, find_col, fused_lumped_step, bsr_upper_t, bsr_upper_init, &
+      bsr_matvec_ordered, bsr_upper_matvec
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
@@ -12,6 +13,7 @@ program test_sparse
   call test_assembly_and_products(t)
   call test_partitions(t)
   call test_summation_order(t)
+  call test_column_order(t)
   call t%finish()
 contains
 
@@ -126,18 +128,7 @@ contains
         0.0_dp, 1e-12_dp, "grid: K x (one part) = dense K x")
     ! 2, 3 and 4 parts: vertical strips, a checkerboard, stripes across the numbering
     do np = 2, 4
-      do e = 1, nel
-        i = mod(e - 1, ex) + 1
-        j = (e - 1)/ex + 1
-        select case (np)
-        case (2)
-          part(e) = merge(0, 1, i <= 3)
-        case (3)
-          part(e) = mod(i/2 + j/2, 3)
-        case (4)
-          part(e) = count(j > [2, 3, 4])
-        end select
-      end do
+      call grid_parts(np, ex, part)
       same_k = .true.
       same_fused = .true.
       do p = 0, np - 1
@@ -154,16 +145,39 @@ contains
     end do
   end subroutine test_partitions
 
+  !> The elements of a grid ex elements wide cut into np = 2, 3 or 4 parts: vertical strips,
+  !! a checkerboard, stripes across the numbering.
+  pure subroutine grid_parts(np, ex, part)
+    integer, intent(in) :: np, ex
+    integer, intent(out) :: part(:)
+    integer :: e, i, j
+    do e = 1, size(part)
+      i = mod(e - 1, ex) + 1
+      j = (e - 1)/ex + 1
+      select case (np)
+      case (2)
+        part(e) = merge(0, 1, i <= 3)
+      case (3)
+        part(e) = mod(i/2 + j/2, 3)
+      case default
+        part(e) = count(j > [2, 3, 4])
+      end select
+    end do
+  end subroutine grid_parts
+
   !> K x and the fused lumped step's u_next on the nodes of part p, built as a rank builds
   !! them: owned nodes (lowest part of their elements) by increasing global index, then the
   !! ghosts, here by decreasing global index; the elements that hold an owned node. gid(k) is
   !! the global index of local node k. u_next is returned huge when the fused step's
   !! velocities differ from the separate passes'.
-  subroutine part_product(conn, ke, part, p, xg, vg, inv_m, dt, y, u_next, gid, nown, nloc)
+  subroutine part_product(conn, ke, part, p, xg, vg, inv_m, dt, y, u_next, gid, nown, nloc, &
+      yo, yu)
     integer, intent(in) :: conn(:,:), part(:), p
     real(dp), intent(in) :: ke(:,:,:), xg(:,:), vg(:,:), inv_m(:,:), dt
     real(dp), intent(out) :: y(:,:), u_next(:,:)
     integer, intent(out) :: gid(:), nown, nloc
+    real(dp), intent(out), optional :: yo(:,:), yu(:,:)
+    type(bsr_upper_t) :: up
     integer :: own(size(xg, 2)), g2l(size(xg, 2)), lconn(size(conn, 1), size(conn, 2))
     integer :: nenv(size(conn, 2)), elems(size(conn, 2)), nn, nen, nell, g, k, e
     logical :: needed(size(xg, 2))
@@ -218,6 +232,22 @@ contains
     vl(:, :) = vg(:, gid(1:nloc))
     iml(:, :) = inv_m(:, gid(1:nloc))
     fl = 1.0e300_dp
+    if (present(yo)) then
+      ! the products in column order: full rows, and the upper blocks where they qualify
+      ! (huge where they do not)
+      call bsr_matvec_ordered(nown, kf%g%row_ptr, kf%g%col, kf%val, xl, fl)
+      yo = 0.0_dp
+      yo(:, 1:nloc) = fl
+      call bsr_upper_init(kf, up)
+      yu = huge(1.0_dp)
+      if (up%n == nown) then
+        fl = 1.0e300_dp
+        call bsr_upper_matvec(up, xl, fl)
+        yu = 0.0_dp
+        yu(:, 1:nloc) = fl
+      end if
+      fl = 1.0e300_dp
+    end if
     call bsr_matvec(nown, kf%g%row_ptr, kf%g%col, kf%val, xl, fl)
     y = 0.0_dp
     y(:, 1:nloc) = fl
@@ -242,24 +272,11 @@ contains
   subroutine test_summation_order(t)
     type(checker_t), intent(inout) :: t
     integer, parameter :: n = 400, ncol = 997
-    integer :: row_ptr(n + 1), i, k, m, j, i0, nbad
+    integer :: row_ptr(n + 1), i, k, j, i0, nbad
     integer, allocatable :: col(:)
     real(dp), allocatable :: val(:,:,:)
     real(dp) :: x(2, ncol), y(2, n), yc(2, n), a1, a2, b1, b2, p1, p2
-    row_ptr(1) = 1
-    do i = 1, n
-      row_ptr(i + 1) = row_ptr(i) + 1 + mod(7*i, 40)
-    end do
-    m = row_ptr(n + 1) - 1
-    allocate(col(m), val(2, 2, m))
-    do k = 1, m
-      col(k) = 1 + mod(37*k + k*k, ncol)
-      val(:, 1, k) = [sin(1.3_dp*k)*10.0_dp**mod(k, 7), cos(0.7_dp*k)]
-      val(:, 2, k) = [-sin(2.1_dp*k)*10.0_dp**(-mod(k, 5)), cos(3.1_dp*k)*1.0e3_dp]
-    end do
-    do j = 1, ncol
-      x(:, j) = [sin(0.37_dp*j)*10.0_dp**mod(j, 4), -cos(0.91_dp*j)]
-    end do
+    call random_rows(n, ncol, row_ptr, col, val, x)
     call bsr_matvec(n, row_ptr, col, val, x, y)
     nbad = 0
     do i = 1, n
@@ -288,4 +305,116 @@ contains
     end do
     call t%true(all(yc == y), "bsr_matvec: in chunks of 37 rows, the same bits")
   end subroutine test_summation_order
+
+  !> n rows of 1 to 40 blocks ((1 + mod(7 i, 40)), odd and even counts) with scattered
+  !! columns among ncol, values of mixed signs and magnitudes (so that another order of a
+  !! sum would change its bits), and x(2, ncol) alike.
+  subroutine random_rows(n, ncol, row_ptr, col, val, x)
+    integer, intent(in) :: n, ncol
+    integer, intent(out) :: row_ptr(n + 1)
+    integer, allocatable, intent(out) :: col(:)
+    real(dp), allocatable, intent(out) :: val(:,:,:)
+    real(dp), intent(out) :: x(2, ncol)
+    integer :: i, k, m, j
+    row_ptr(1) = 1
+    do i = 1, n
+      row_ptr(i + 1) = row_ptr(i) + 1 + mod(7*i, 40)
+    end do
+    m = row_ptr(n + 1) - 1
+    allocate(col(m), val(2, 2, m))
+    do k = 1, m
+      col(k) = 1 + mod(37*k + k*k, ncol)
+      val(:, 1, k) = [sin(1.3_dp*k)*10.0_dp**mod(k, 7), cos(0.7_dp*k)]
+      val(:, 2, k) = [-sin(2.1_dp*k)*10.0_dp**(-mod(k, 5)), cos(3.1_dp*k)*1.0e3_dp]
+    end do
+    do j = 1, ncol
+      x(:, j) = [sin(0.37_dp*j)*10.0_dp**mod(j, 4), -cos(0.91_dp*j)]
+    end do
+  end subroutine random_rows
+
+  !> The product of the consistent-mass step, summed in column order: each row one chain over
+  !! its blocks in column order, y_i = ((0 + t_1) + t_2) + ..., t_k = A_ik(:, 1) x_k1 +
+  !! A_ik(:, 2) x_k2, written out here in Fortran (the kernels are C) on the rows of 1-40
+  !! blocks of `test_summation_order`; then on the 7 x 5 grid of `test_partitions` with
+  !! symmetric element matrices: the upper blocks qualify on one part and give the bits of
+  !! the full rows; every part of 2-4 gives the one-part bits with the full rows; the upper
+  !! storage is refused where a part has ghosts, and where K is not symmetric bit for bit.
+  subroutine test_column_order(t)
+    type(checker_t), intent(inout) :: t
+    integer, parameter :: n = 400, ncol = 997
+    integer, parameter :: ex = 7, ey = 5, nel = ex*ey, nn = (ex + 1)*(ey + 1), nen = 4
+    integer :: row_ptr(n + 1), i, k, j, nbad, e, a, b, np, p, nown, nloc
+    integer :: conn(nen, nel), part(nel), gid(nn)
+    integer, allocatable :: col(:)
+    real(dp), allocatable :: val(:,:,:)
+    real(dp) :: x(2, ncol), y(2, n), a1, a2
+    real(dp) :: ke(2*nen, 2*nen, nel), xg(2, nn), vg(2, nn), inv_m(2, nn), yg(2, nn), ung(2, nn)
+    real(dp) :: yo1(2, nn), yu1(2, nn), yl(2, nn), unl(2, nn), yo(2, nn), yu(2, nn)
+    logical :: same, refused
+    call random_rows(n, ncol, row_ptr, col, val, x)
+    call bsr_matvec_ordered(n, row_ptr, col, val, x, y)
+    nbad = 0
+    do i = 1, n
+      a1 = 0.0_dp
+      a2 = 0.0_dp
+      do k = row_ptr(i), row_ptr(i + 1) - 1
+        j = col(k)
+        a1 = a1 + (val(1, 1, k)*x(1, j) + val(1, 2, k)*x(2, j))
+        a2 = a2 + (val(2, 1, k)*x(1, j) + val(2, 2, k)*x(2, j))
+      end do
+      if (y(1, i) /= a1 .or. y(2, i) /= a2) nbad = nbad + 1
+    end do
+    call t%equal_int(nbad, 0, "bsr_matvec_ordered: rows of 1-40 blocks in column order")
+    ! the grid, element matrices symmetric bit for bit (upper triangle mirrored)
+    do j = 1, ey
+      do i = 1, ex
+        e = i + (j - 1)*ex
+        a = i + (j - 1)*(ex + 1)
+        conn(:, e) = [a, a + 1, a + ex + 2, a + ex + 1]
+        do b = 1, 2*nen
+          do a = 1, b
+            ke(a, b, e) = sin(real(a + 3*b + 7*e, dp))*10.0_dp**mod(a + b, 5) &
+                + merge(4.0_dp, 0.0_dp, a == b)
+            ke(b, a, e) = ke(a, b, e)
+          end do
+        end do
+      end do
+    end do
+    do i = 1, nn
+      xg(:, i) = [cos(real(3*i, dp))*10.0_dp**mod(i, 3), sin(real(5*i, dp))]
+      vg(:, i) = 0.0_dp
+      inv_m(:, i) = 1.0_dp
+    end do
+    part = 0
+    call part_product(conn, ke, part, 0, xg, vg, inv_m, 0.01_dp, yg, ung, gid, nown, nloc, &
+        yo1, yu1)
+    call t%true(all(yu1 /= huge(1.0_dp)), "one part: the upper blocks qualify")
+    call t%true(all(yu1 == yo1), "one part: upper blocks give the bits of the full rows")
+    call t%close_abs(maxval(abs(yo1 - yg))/maxval(abs(yg)), 0.0_dp, 1e-14_dp, &
+        "one part: column order = the two-chain product to round-off")
+    do np = 2, 4
+      call grid_parts(np, ex, part)
+      same = .true.
+      refused = .true.
+      do p = 0, np - 1
+        call part_product(conn, ke, part, p, xg, vg, inv_m, 0.01_dp, yl, unl, gid, nown, &
+            nloc, yo, yu)
+        do k = 1, nown
+          if (any(yo(:, k) /= yo1(:, gid(k)))) same = .false.
+        end do
+        if (nloc > nown .and. any(yu /= huge(1.0_dp))) refused = .false.
+      end do
+      call t%true(same, "grid: column order on every part of " // char(48 + np) // &
+          " = one part, bit for bit")
+      call t%true(refused, "grid: upper storage refused on the parts with ghosts (" // &
+          char(48 + np) // " parts)")
+    end do
+    ! one entry not symmetric in its last bit (nodes 2 and 4 of an element: a pair no other
+    ! element holds, so K holds that entry alone): the upper storage is refused
+    ke(3, 8, 17) = nearest(ke(3, 8, 17), 1.0_dp)
+    part = 0
+    call part_product(conn, ke, part, 0, xg, vg, inv_m, 0.01_dp, yg, ung, gid, nown, nloc, &
+        yo1, yu1)
+    call t%true(all(yu1 == huge(1.0_dp)), "K not symmetric bit for bit: upper storage refused")
+  end subroutine test_column_order
 end program test_sparse
