@@ -42,7 +42,7 @@ program ictus_bench
   use ictus_solver_sparse, only: bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      state_plan_sweep, step_sweep, step_window
+      state_plan_sweep, step_sweep, step_window, stiffness_product
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
   use ictus_contact_contact, only: contact_t
@@ -63,7 +63,7 @@ program ictus_bench
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0, nchunk, k
-  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, dt, &
+  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, t_kstep, dt, &
       stream_bw, bytes_kmv, mass_iter, sink
   logical, allocatable :: sync(:)
   logical :: tuned
@@ -157,7 +157,7 @@ program ictus_bench
     call step_window(s, ops%k, mop, dom, between)
   end do
   call stream_alloc(stream_mb)
-  allocate(times(8, nrep), stream(nrep))
+  allocate(times(9, nrep), stream(nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
@@ -174,6 +174,7 @@ program ictus_bench
   t_single = median(times(6, :))
   t_sweep = median(times(7, :))
   t_kread = median(times(8, :))
+  t_kstep = median(times(9, :))
   ! the read's sums must be used, or the compiler may drop the pass
   if (sink /= sink) write(output_unit, '(a)') 'ictus-bench: K holds NaN'
   stream_bw = median(stream)
@@ -192,7 +193,7 @@ program ictus_bench
   end if
   if (env_is_root()) write(output_unit, &
       '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
-      '2(a,i0),2(a,es11.5))') &
+      '2(a,i0),3(a,es11.5))') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
@@ -205,25 +206,26 @@ program ictus_bench
       ' mass_solver=', merge(mop%solver, 0, ops%consistent), ' sweep_kib=', &
       merge(s%sweep_bytes/1024, 0, s%sweeps), ' tune_wide=', &
       merge(s%tune_time(3)/max(1, s%sweep%nstage), 0.0_dp, tuned .and. s%has_wide), &
-      ' t_kread=', t_kread
+      ' t_kread=', t_kread, ' t_kstep=', t_kstep
   call env_finalize()
 
 contains
 
   !> One set of timings, seconds per step (the slowest rank's): stiffness product, whole
   !! step on the run's path (sweeps where planned), mass solve, contact correction, separate
-  !! vector updates, whole step one step at a time, whole step in sweeps (where planned), and
-  !! one pass that only reads the arrays of K (`read_k`).
+  !! vector updates, whole step one step at a time, whole step in sweeps (where planned), one
+  !! pass that only reads the arrays of K (`read_k`), and with a consistent mass the product
+  !! its step takes (`stiffness_product`: column order, K's upper blocks on one rank).
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(8)
+    real(dp), intent(out) :: t(9)
     real(dp) :: t0
     integer :: k, m, ic
     ! 1.-2c. the stiffness product alone, the whole step on the run's path (no output), the
-    ! same one step at a time, in sweeps where planned, and the read of K alone: interleaved
-    ! in nchunk chunks of steps, so that the slow drifts of a shared host's bandwidth fall on
-    ! all five alike
+    ! same one step at a time, in sweeps where planned, the read of K alone and the consistent
+    ! step's product: interleaved in nchunk chunks of steps, so that the slow drifts of a
+    ! shared host's bandwidth fall on all alike
     t(1:2) = 0.0_dp
-    t(6:8) = 0.0_dp
+    t(6:9) = 0.0_dp
     m = nsteps/nchunk
     do ic = 1, nchunk
       call barrier()
@@ -256,6 +258,15 @@ contains
         call read_k(size(ops%k%g%col), n, ops%k%val, ops%k%g%col, ops%k%g%row_ptr, sink)
       end do
       t(8) = t(8) + (wall_time() - t0)
+      if (s%ordered) then
+        ! the product the consistent step takes (column order; K's upper blocks on one rank)
+        call barrier()
+        t0 = wall_time()
+        do k = 1, m
+          call stiffness_product(s, ops%k, s%u, s%f)
+        end do
+        t(9) = t(9) + (wall_time() - t0)
+      end if
     end do
     ! 3. phases: mass solve, contact, vector updates (the unfused passes); they run on a
     ! saved state, restored afterwards, so the runs of the whole step stay a real motion
@@ -293,7 +304,7 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 8
+    do k = 1, 9
       call allreduce_max(t(k))
     end do
     t = t/nsteps

@@ -39,7 +39,7 @@ module ictus_solver_explicit
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, state_plan_sweep, &
       step_sweep, step_window, between_steps, SWEEP_TUNE_ROUNDS, SWEEP_AUTO_STEPS, &
-      tune_kinds
+      tune_kinds, stiffness_product
 
   !> Bytes of K the rows of a sweep may hold between a row's first and last stage: what stays
   !! in a 2 MiB L2 cache next to the vectors (measured: doc/performance.md §3.7). With
