@@ -14,7 +14,7 @@ module ictus_app_driver
   use ictus_core_timer, only: wall_time
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max, allgather_int, &
-      allgatherv_real, env_node_size
+      allgatherv_real, env_node_size, allreduce_sum
   use ictus_elements_types, only: etype_name, ETYPE_Q8, ETYPE_IGA
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
@@ -467,13 +467,7 @@ contains
           'solve did not converge at the start')
     end if
     call log_info('results: '//out)
-    if (s%ordered .and. s%kup%n > 0) then
-      call log_info('stiffness product: summed in column order from the upper blocks of K ('// &
-          str(36.0_dp*real(size(s%kup%col), dp)/1.0e6_dp, 3)//' MB more; half the bytes '// &
-          'per product)')
-    else if (s%ordered) then
-      call log_info('stiffness product: summed in column order from the full rows of K')
-    end if
+    if (s%ordered) call log_product(s)
     ! sweeps of several steps over K where no output falls between (lumped mass)
     allocate(sync(dom%nowned), source=.false.)
     if (contact%npairs > 0) then
@@ -711,4 +705,36 @@ contains
     call log_info('results so far: '//res%path)
     call fatal('run-time failure', msg, EXIT_RUNTIME)
   end subroutine runtime_failure
+  !> The log line of the stiffness product of a consistent-mass step (`stiffness_product`):
+  !! from K's upper blocks on ranks that hold all rows of their nodes' neighbours (one rank;
+  !! a rank whose part has no ghosts), else from the full rows; the same bits either way.
+  subroutine log_product(s)
+    type(state_t), intent(in) :: s
+    integer :: nup, nshort
+    real(dp) :: mb
+    nup = merge(1, 0, s%kup%n > 0)
+    nshort = merge(1, 0, s%kup%short_of_memory)
+    mb = 0.0_dp
+    if (s%kup%n > 0) mb = 36.0_dp*real(size(s%kup%col), dp)/1.0e6_dp
+    call allreduce_sum(nup)
+    call allreduce_sum(nshort)
+    call allreduce_sum(mb)
+    if (env_size() == 1 .and. nup == 1) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K ('// &
+          str(mb, 3)//' MB more; half the bytes per product)')
+    else if (nup == env_size()) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K on '// &
+          'all '//str(nup)//' ranks (parts without ghosts; '//str(mb, 3)//' MB more)')
+    else if (nup > 0) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K on '// &
+          str(nup)//' of '//str(env_size())//' ranks (parts without ghosts; '//str(mb, 3)// &
+          ' MB more), the full rows on the others')
+    else if (nshort > 0) then
+      call log_info('stiffness product: summed in column order from the full rows of K '// &
+          '(its upper blocks would take more than half the memory available)')
+    else
+      call log_info('stiffness product: summed in column order from the full rows of K')
+    end if
+  end subroutine log_product
+
 end module ictus_app_driver

@@ -5,8 +5,8 @@
 !! mass, the same for both displacement components, is a scalar CSR matrix (`csr_t`) on the
 !! same node graph. Both are assembled once from element matrices.
 module ictus_solver_sparse
-  use ictus_core_kinds, only: dp
-  use ictus_core_memory, only: alloc_stream
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_memory, only: alloc_stream, available_memory
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   implicit none
   private
@@ -35,9 +35,11 @@ module ictus_solver_sparse
 
   !> The blocks on and above the diagonal of a symmetric `bsr_t` whose rows are all on this
   !! rank, numbered in global order (`bsr_upper_init`): the storage of `bsr_upper_matvec`.
-  !! Each row starts with its diagonal block; n = 0 when the matrix does not qualify.
+  !! Each row starts with its diagonal block; n = 0 when the matrix does not qualify, or
+  !! (`short_of_memory`) when the storage would take more than half the memory available.
   type :: bsr_upper_t
     integer :: n = 0
+    logical :: short_of_memory = .false.
     integer, allocatable :: row_ptr(:), col(:)
     real(dp), allocatable :: val(:,:,:)
   end type bsr_upper_t
@@ -287,11 +289,13 @@ contains
   !! local numbering in global order (key increasing), a diagonal block in every row that has
   !! blocks, and A symmetric bit for bit (A_ji = A_ij^T, as `assemble_operators` builds K).
   !! Otherwise up%n = 0 and nothing is kept (callers take `bsr_matvec_ordered`, the same
-  !! bits). About half the memory of `a`.
+  !! bits). About half the memory of `a`; not kept either when that is more than half the
+  !! memory available (`available_memory`; up%short_of_memory).
   subroutine bsr_upper_init(a, up)
     type(bsr_t), intent(in) :: a
     type(bsr_upper_t), intent(out) :: up
     integer :: i, k, nb, n, j, kt
+    integer(i8) :: avail
     n = a%g%n
     if (n == 0 .or. a%g%ncol /= n) return
     do i = 2, n
@@ -314,6 +318,11 @@ contains
         if (a%g%col(a%g%row_ptr(i)) > i) return
       end if
     end do
+    avail = available_memory()
+    if (avail >= 0 .and. 2_i8*(36_i8*nb + 4_i8*(n + 1)) > avail) then
+      up%short_of_memory = .true.
+      return
+    end if
     allocate(up%row_ptr(n + 1), up%col(nb))
     call alloc_stream(up%val, 2, 2, nb, 0.0_dp)
     nb = 0

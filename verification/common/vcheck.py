@@ -30,16 +30,17 @@ def arguments():
     return a
 
 
-def run_ictus(args, deck, out=None, expect_status=0, extra=(), np=None):
-    """Runs ictus on `deck` (on `np` MPI ranks when given), returns (status, output).
-    Fails the case on a wrong exit status."""
+def run_ictus(args, deck, out=None, expect_status=0, extra=(), np=None, env=None):
+    """Runs ictus on `deck` (on `np` MPI ranks when given; `env`: variables added to the
+    environment), returns (status, output). Fails the case on a wrong exit status."""
     launcher = args.mpiexec.split() if args.mpiexec else []
     if np is not None:
         launcher = args.mpirun.split() + ["--oversubscribe", "-np", str(np)]
     cmd = launcher + [args.ictus, deck] + list(extra)
     if out:
         cmd += ["-o", out]
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       env=dict(os.environ, **env) if env else None)
     if p.returncode != expect_status:
         print(p.stdout)
         print(f"FAILED: {' '.join(cmd)} exited with {p.returncode}, expected {expect_status}")

@@ -225,6 +225,19 @@ def main():
             if "_kronecker" in tag:
                 chk.true("MASS SOLVER=KRONECKER" in log, f"{tag}: np = {n} solves the mass "
                          "along the lattice directions")
+            if any(w in tag for w in ("consistent", "kronecker", "corrector")):
+                # the product of a consistent step: K's upper blocks on one rank, the full
+                # rows on several (the upper blocks on a part without ghosts), the same bits
+                # (compared below)
+                if n == 1:
+                    ok = "summed in column order from the upper blocks of K (" in log
+                else:
+                    ok = ("summed in column order from the full rows of K" in log
+                          or re.search(r"upper blocks of K on (\d of %d ranks .* the full rows "
+                                       r"on the others|all %d ranks \(parts without ghosts)"
+                                       % (n, n), log) is not None)
+                what = "upper blocks" if n == 1 else "full rows (of parts with ghosts)"
+                chk.true(ok, f"{tag}: np = {n} takes K u from the {what}")
             if tag.endswith("_fused"):
                 fused = "update v and u inside the solve" in log
                 chk.true(fused == (n == 1), f"{tag}: np = {n} "
@@ -257,6 +270,14 @@ def main():
                     chk.true("and against wide strips" in log and "ms in one sweep of wide "
                              "strips" in log, f"{tag}: np = {n} times the wide strips too")
                 compare(chk, f"{tag} with SWEEP STEPS=AUTO", results[1], vcheck.Results(out), n)
+        if tag == "q8_kronecker_fused":
+            # K's upper blocks do not fit in the memory given: the full rows, the same bits
+            out = os.path.join(args.work, f"{tag}_no_upper.h5")
+            _, log = vcheck.run_ictus(args, path, out, np=1,
+                                      env={"ICTUS_MEMORY_LIMIT_MB": "0.001"})
+            chk.true("full rows of K (its upper blocks would take more than half the memory "
+                     "available)" in log, f"{tag}: K u from the full rows when memory is short")
+            compare(chk, tag + " with the full rows", results[1], vcheck.Results(out), 1)
         if tag == "q4_empty_rank":
             owners = set(results[4].model("partition").tolist())
             chk.true(len(owners) < 4, f"{tag}: np = 4 leaves a rank without nodes (owners "
