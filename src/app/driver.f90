@@ -705,6 +705,7 @@ contains
     call log_info('results so far: '//res%path)
     call fatal('run-time failure', msg, EXIT_RUNTIME)
   end subroutine runtime_failure
+
   !> The log line of the stiffness product of a consistent-mass step (`stiffness_product`):
   !! from K's upper blocks on ranks that hold all rows of their nodes' neighbours (one rank;
   !! a rank whose part has no ghosts), else from the full rows; the same bits either way.
@@ -736,5 +737,4 @@ contains
       call log_info('stiffness product: summed in column order from the full rows of K')
     end if
   end subroutine log_product
-
 end module ictus_app_driver
