@@ -50,6 +50,20 @@ module ictus_solver_sparse
     real(dp), allocatable :: val(:)
   end type csr_t
 
+  !> The row loops of bsr_kernel.c (1-based row_ptr and col, as here): y = A x on n rows.
+  abstract interface
+    subroutine c_row_loop(n, row_ptr, col, val, x, y) bind(c)
+      import :: c_int, c_double
+      integer(c_int), value :: n
+      integer(c_int), intent(in) :: row_ptr(*), col(*)
+      real(c_double), intent(in) :: val(*), x(*)
+      real(c_double), intent(inout) :: y(*)
+    end subroutine c_row_loop
+  end interface
+  procedure(c_row_loop), bind(c, name='ictus_bsr_matvec') :: c_bsr_matvec
+  procedure(c_row_loop), bind(c, name='ictus_bsr_matvec_ordered') :: c_bsr_matvec_ordered
+  procedure(c_row_loop), bind(c, name='ictus_bsr_symv') :: c_bsr_symv
+
 contains
 
   !> Builds the node graph of a mesh: nodes i and j are neighbours when an element holds both.
@@ -249,15 +263,6 @@ contains
     integer, intent(in) :: row_ptr(n + 1), col(*)
     real(dp), intent(in) :: val(2, 2, *), x(2, *)
     real(dp), intent(inout) :: y(2, *)
-    interface
-      subroutine c_bsr_matvec(n, row_ptr, col, val, x, y) bind(c, name='ictus_bsr_matvec')
-        import :: c_int, c_double
-        integer(c_int), value :: n
-        integer(c_int), intent(in) :: row_ptr(*), col(*)
-        real(c_double), intent(in) :: val(*), x(*)
-        real(c_double), intent(inout) :: y(*)
-      end subroutine c_bsr_matvec
-    end interface
     call c_bsr_matvec(n, row_ptr, col, val, x, y)
   end subroutine bsr_matvec
 
@@ -272,16 +277,7 @@ contains
     integer, intent(in) :: row_ptr(n + 1), col(*)
     real(dp), intent(in) :: val(2, 2, *), x(2, *)
     real(dp), intent(inout) :: y(2, *)
-    interface
-      subroutine c_ordered(n, row_ptr, col, val, x, y) bind(c, name='ictus_bsr_matvec_ordered')
-        import :: c_int, c_double
-        integer(c_int), value :: n
-        integer(c_int), intent(in) :: row_ptr(*), col(*)
-        real(c_double), intent(in) :: val(*), x(*)
-        real(c_double), intent(inout) :: y(*)
-      end subroutine c_ordered
-    end interface
-    call c_ordered(n, row_ptr, col, val, x, y)
+    call c_bsr_matvec_ordered(n, row_ptr, col, val, x, y)
   end subroutine bsr_matvec_ordered
 
   !> The upper storage of `a` (its diagonal and the blocks to its right) for
@@ -354,16 +350,7 @@ contains
     type(bsr_upper_t), intent(in) :: up
     real(dp), intent(in) :: x(2, *)
     real(dp), intent(inout) :: y(2, *)
-    interface
-      subroutine c_symv(n, row_ptr, col, val, x, y) bind(c, name='ictus_bsr_symv')
-        import :: c_int, c_double
-        integer(c_int), value :: n
-        integer(c_int), intent(in) :: row_ptr(*), col(*)
-        real(c_double), intent(in) :: val(*), x(*)
-        real(c_double), intent(inout) :: y(*)
-      end subroutine c_symv
-    end interface
-    call c_symv(up%n, up%row_ptr, up%col, up%val, x, y)
+    call c_bsr_symv(up%n, up%row_ptr, up%col, up%val, x, y)
   end subroutine bsr_upper_matvec
 
   !> The undamped lumped-mass predictor and the displacement update in one pass over memory:
