@@ -12,12 +12,15 @@ module ictus_app_build_model
   use ictus_geometry_sides, only: SIDE_NONE
   use ictus_geometry_patch, only: patch_elevate, patch_refine, patch_build_elements, &
       patch_side_points
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA, etype_name
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA
+  use ictus_elements_library, only: etype_name
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
+  use ictus_materials_material, only: material_make_law
   use ictus_solver_model, only: model_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
-      OP_REFINE, ANALYSIS_PLANE_STRAIN
+      OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   implicit none
   private
@@ -54,7 +57,8 @@ contains
     integer :: nfe
     model%title = ''
     if (allocated(deck%title)) model%title = deck%title
-    model%plane_strain = deck%analysis == ANALYSIS_PLANE_STRAIN
+    model%analysis = ANALYSIS_PLANE_STRESS
+    if (deck%analysis == DECK_PLANE_STRAIN) model%analysis = ANALYSIS_PLANE_STRAIN
     model%thickness = deck%thickness
     call build_materials(deck, model)
     call build_patches(deck, model)
@@ -95,13 +99,12 @@ contains
     type(model_t), intent(inout) :: model
     integer :: i
     model%nmat = deck%n_materials
-    allocate(model%mat_name(model%nmat), model%young(model%nmat), &
-        model%poisson(model%nmat), model%density(model%nmat))
+    allocate(model%materials(model%nmat))
     do i = 1, model%nmat
-      model%mat_name(i) = deck%materials(i)%name
-      model%young(i) = deck%materials(i)%e
-      model%poisson(i) = deck%materials(i)%nu
-      model%density(i) = deck%materials(i)%rho
+      model%materials(i)%name = deck%materials(i)%name
+      model%materials(i)%density = deck%materials(i)%rho
+      call material_make_law('LINEAR ELASTIC', [deck%materials(i)%e, deck%materials(i)%nu], &
+          model%materials(i)%law)
     end do
   end subroutine build_materials
 
@@ -112,7 +115,7 @@ contains
     integer :: i
     material_index = 0
     do i = 1, model%nmat
-      if (upper(trim(model%mat_name(i))) == upper(trim(name))) then
+      if (upper(trim(model%materials(i)%name)) == upper(trim(name))) then
         material_index = i
         return
       end if

@@ -15,7 +15,8 @@ module ictus_app_driver
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max, allgather_int, &
       allgatherv_real, env_node_size, allreduce_sum
-  use ictus_elements_types, only: etype_name, ETYPE_Q8, ETYPE_IGA
+  use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
+  use ictus_elements_library, only: etype_name
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
   use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout

@@ -1,16 +1,30 @@
-!> Element type codes and the shape-function data that every element routine consumes.
+!> Element type codes, the description of an element type, the tasks of the element routine,
+!! and the shape-function data that every element kernel consumes.
 module ictus_elements_types
   use ictus_core_kinds, only: dp
   implicit none
   private
-  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, etype_name, etype_nen, elem_shape_t
+  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_MAX, elem_shape_t, element_kind_t, &
+      shape_at_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
+      KERNEL_SOLID2D
 
   !> Lagrange/serendipity quadrilaterals from *ELEMENT, and NURBS (Bezier-extracted) spans.
+  !! Codes index the dispatcher's table (ictus_elements_library): a new type takes the next.
   integer, parameter :: ETYPE_Q4 = 1, ETYPE_Q8 = 2, ETYPE_Q9 = 3, ETYPE_IGA = 4
+  integer, parameter :: ETYPE_MAX = 4
+
+  !> Tasks of the element routine (`element_routine`): the scalar consistent mass, the internal
+  !! force of the material law, the small-strain stiffness of a linear law, the stress at the
+  !! quadrature points, and the smallest Jacobian determinant.
+  integer, parameter :: TASK_MASS = 1, TASK_FORCE = 2, TASK_STIFFNESS = 3, TASK_STRESS = 4, &
+      TASK_JACOBIAN = 5
+
+  !> Element kernels: the isoparametric 2D solid (ictus_elements_solid2d).
+  integer, parameter :: KERNEL_SOLID2D = 1
 
   !> Shape functions of one element (or one element type) at its quadrature points.
-  !! Derivatives are with respect to the parent coordinates (xi, eta) in [-1, 1]^2, so the
-  !! same element routine serves Lagrange elements and Bezier-extracted NURBS spans.
+  !! Derivatives are with respect to the parent coordinates in [-1, 1]^ndm, so the same
+  !! element kernel serves Lagrange elements and Bezier-extracted NURBS spans.
   type :: elem_shape_t
     !> Number of element nodes / control points.
     integer :: nen = 0
@@ -18,44 +32,45 @@ module ictus_elements_types
     integer :: ngp = 0
     !> Shape function values, (nen, ngp).
     real(dp), allocatable :: n(:,:)
-    !> Derivatives d N / d(xi, eta), (2, nen, ngp).
+    !> Derivatives d N / d(xi, eta), (ndm, nen, ngp).
     real(dp), allocatable :: dn(:,:,:)
     !> Quadrature weights in the parent domain, (ngp).
     real(dp), allocatable :: w(:)
   end type elem_shape_t
 
-contains
+  abstract interface
+    !> Shape functions n(nen) and parent derivatives dn(ndm, nen) at the parent point xi(ndm).
+    pure subroutine shape_at_i(xi, n, dn)
+      import :: dp
+      real(dp), intent(in) :: xi(:)
+      real(dp), intent(out) :: n(:), dn(:,:)
+    end subroutine shape_at_i
+  end interface
 
-  !> Deck name of an element type.
-  pure function etype_name(etype) result(name)
-    integer, intent(in) :: etype
-    character(len=:), allocatable :: name
-    select case (etype)
-    case (ETYPE_Q4)
-      name = 'Q4'
-    case (ETYPE_Q8)
-      name = 'Q8'
-    case (ETYPE_Q9)
-      name = 'Q9'
-    case (ETYPE_IGA)
-      name = 'IGA'
-    case default
-      name = '?'
-    end select
-  end function etype_name
-
-  !> Nodes per element of a finite-element type (0 for IGA: it depends on the degrees).
-  pure integer function etype_nen(etype)
-    integer, intent(in) :: etype
-    select case (etype)
-    case (ETYPE_Q4)
-      etype_nen = 4
-    case (ETYPE_Q8)
-      etype_nen = 8
-    case (ETYPE_Q9)
-      etype_nen = 9
-    case default
-      etype_nen = 0
-    end select
-  end function etype_nen
+  !> What the rest of the program knows of an element type: names, sizes, faces, the kernel
+  !! and the shape functions. Filled by the type's own `<type>_kind()` (one file per family).
+  type :: element_kind_t
+    !> Deck name (TYPE= on *ELEMENT) and the name of its XDMF topology.
+    character(len=16) :: name = '?'
+    character(len=16) :: xdmf = ''
+    !> Spatial dimension, nodes (0: set by the NURBS degrees), corner nodes.
+    integer :: ndm = 2
+    integer :: nen = 0
+    integer :: ncorner = 0
+    !> Full Gauss rule: points per direction (0: from the degrees, p + 1).
+    integer :: ngauss = 0
+    !> Faces: how many, nodes per face and their local node numbers (nfn, nface) in order
+    !! along the face.
+    integer :: nface = 0
+    integer :: nfn = 0
+    integer, allocatable :: face(:,:)
+    !> Polynomial order along an edge (1 linear, 2 quadratic) and whether the element has the
+    !! centre node of a full tensor-product Lagrange element.
+    integer :: order = 0
+    logical :: centre = .false.
+    !> Element kernel (KERNEL_*).
+    integer :: kernel = KERNEL_SOLID2D
+    !> Shape functions at a parent point (null for NURBS, whose shape depends on the span).
+    procedure(shape_at_i), pointer, nopass :: shape => null()
+  end type element_kind_t
 end module ictus_elements_types

@@ -8,13 +8,26 @@
 module ictus_elements_iga
   use ictus_core_kinds, only: dp
   use ictus_geometry_bezier, only: bernstein
-  use ictus_elements_types, only: elem_shape_t
+  use ictus_elements_types, only: elem_shape_t, element_kind_t, KERNEL_SOLID2D
   use ictus_elements_quadrature, only: gauss_legendre
   implicit none
   private
-  public :: iga_shape_data, iga_basis_at
+  public :: iga_shape_data, iga_basis_at, iga_kind
 
 contains
+
+  !> The NURBS span as an element type, for the dispatcher (ictus_elements_library): its nodes,
+  !! Gauss rule and shape functions follow from the patch's degrees, span by span. Its four
+  !! faces are the sides of the span; results show it on viewing cells (quadrilaterals).
+  function iga_kind() result(k)
+    type(element_kind_t) :: k
+    k%name = 'IGA'
+    k%xdmf = 'Quadrilateral'
+    k%ndm = 2
+    k%ncorner = 4
+    k%nface = 4
+    k%kernel = KERNEL_SOLID2D
+  end function iga_kind
 
   !> NURBS basis and parent derivatives at all Gauss points of one element.
   !! @param p degrees (2); @param c1e extraction operator of direction 1 (p1+1, p1+1);

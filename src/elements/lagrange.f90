@@ -5,11 +5,13 @@
 !! centre 9 (Q9 only). Face k runs from corner k to corner k+1 (corner 4 to corner 1 for k = 4).
 module ictus_elements_lagrange
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_nen, elem_shape_t
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t, element_kind_t, &
+      KERNEL_SOLID2D
   use ictus_elements_quadrature, only: gauss_rule_2d
   implicit none
   private
-  public :: lagrange_shape, lagrange_shape_data, lagrange_face_nodes, lagrange_node_xi
+  public :: lagrange_shape, lagrange_shape_data, lagrange_face_nodes, lagrange_node_xi, &
+      q4_kind, q8_kind, q9_kind
 
   !> Parent coordinates of the 9 possible nodes, (2, 9).
   real(dp), parameter :: node_xi(2, 9) = reshape([ &
@@ -18,6 +20,52 @@ module ictus_elements_lagrange
       0.0_dp, 0.0_dp], [2, 9])
 
 contains
+
+  !> The element types of this file, for the dispatcher (ictus_elements_library).
+  function q4_kind() result(k)
+    type(element_kind_t) :: k
+    k = quad_kind('Q4', 'Quadrilateral', 4, 2, 1, .false.)
+    k%shape => shape_q4
+  end function q4_kind
+
+  function q8_kind() result(k)
+    type(element_kind_t) :: k
+    k = quad_kind('Q8', 'Quadrilateral_8', 8, 3, 2, .false.)
+    k%shape => shape_q8
+  end function q8_kind
+
+  function q9_kind() result(k)
+    type(element_kind_t) :: k
+    k = quad_kind('Q9', 'Quadrilateral_9', 9, 3, 2, .true.)
+    k%shape => shape_q9
+  end function q9_kind
+
+  !> The common part of the three quadrilaterals: 4 corners, 4 faces from corner k to k + 1
+  !! (with midside k + 4 for the quadratic ones).
+  function quad_kind(name, xdmf, nen, ngauss, order, centre) result(k)
+    character(len=*), intent(in) :: name, xdmf
+    integer, intent(in) :: nen, ngauss, order
+    logical, intent(in) :: centre
+    type(element_kind_t) :: k
+    integer :: f
+    k%name = name
+    k%xdmf = xdmf
+    k%ndm = 2
+    k%nen = nen
+    k%ncorner = 4
+    k%ngauss = ngauss
+    k%order = order
+    k%centre = centre
+    k%kernel = KERNEL_SOLID2D
+    k%nface = 4
+    k%nfn = order + 1
+    allocate(k%face(k%nfn, 4))
+    do f = 1, 4
+      k%face(1, f) = f
+      k%face(k%nfn, f) = mod(f, 4) + 1
+      if (order == 2) k%face(2, f) = f + 4
+    end do
+  end function quad_kind
 
   !> Parent coordinates of local node a (1..9) in [-1, 1]^2; xa(2).
   pure subroutine lagrange_node_xi(a, xa)
@@ -37,18 +85,18 @@ contains
     dn = 0.0_dp
     select case (etype)
     case (ETYPE_Q4)
-      call shape_q4(xi, n, dn)
+      call shape_q4(xi, n(1:4), dn(:, 1:4))
     case (ETYPE_Q8)
-      call shape_q8(xi, n, dn)
+      call shape_q8(xi, n(1:8), dn(:, 1:8))
     case (ETYPE_Q9)
-      call shape_q9(xi, n, dn)
+      call shape_q9(xi, n(1:9), dn(:, 1:9))
     end select
   end subroutine lagrange_shape
 
   !> Bilinear: N_A = (1 + xi xi_A)(1 + eta eta_A)/4.
   pure subroutine shape_q4(xi, n, dn)
-    real(dp), intent(in) :: xi(2)
-    real(dp), intent(inout) :: n(:), dn(:,:)
+    real(dp), intent(in) :: xi(:)
+    real(dp), intent(out) :: n(:), dn(:,:)
     integer :: a
     real(dp) :: s, t
     do a = 1, 4
@@ -64,8 +112,8 @@ contains
   !! midsides with xi_A = 0: (1 - xi^2)(1 + eta eta_A)/2; with eta_A = 0:
   !! (1 + xi xi_A)(1 - eta^2)/2.
   pure subroutine shape_q8(xi, n, dn)
-    real(dp), intent(in) :: xi(2)
-    real(dp), intent(inout) :: n(:), dn(:,:)
+    real(dp), intent(in) :: xi(:)
+    real(dp), intent(out) :: n(:), dn(:,:)
     integer :: a
     real(dp) :: xa, ya, s, t, r
     do a = 1, 4
@@ -97,8 +145,8 @@ contains
 
   !> Biquadratic Lagrange: tensor product of the 1D quadratics through -1, 0, 1.
   pure subroutine shape_q9(xi, n, dn)
-    real(dp), intent(in) :: xi(2)
-    real(dp), intent(inout) :: n(:), dn(:,:)
+    real(dp), intent(in) :: xi(:)
+    real(dp), intent(out) :: n(:), dn(:,:)
     integer :: a
     real(dp) :: l1(3), d1(3), l2(3), d2(3)
     integer :: i, j
@@ -135,7 +183,7 @@ contains
     type(elem_shape_t), intent(out) :: shp
     real(dp), allocatable :: xg(:,:)
     integer :: g
-    shp%nen = etype_nen(etype)
+    shp%nen = merge(4, merge(8, 9, etype == ETYPE_Q8), etype == ETYPE_Q4)
     shp%ngp = ngauss*ngauss
     allocate(shp%n(shp%nen, shp%ngp), shp%dn(2, shp%nen, shp%ngp), shp%w(shp%ngp))
     allocate(xg(2, shp%ngp))

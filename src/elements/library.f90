@@ -1,17 +1,60 @@
-!> Element library: the entry point that, for an element type, provides the shape data, plus
-!! the element-level frequency bound used for the critical time step.
+!> The element library: the one dispatcher by element type, and the element routine with its
+!! tasks.
 !!
-!! All element families (Q4, Q8, Q9 and Bezier-extracted NURBS spans) share the isoparametric
-!! solid kernels of ictus_elements_solid2d (stiffness, mass, stress); they differ only in their
-!! shape data. Lagrange shape data come from here; NURBS spans get theirs from
-!! ictus_elements_iga, span by span.
+!! `element_kind(etype)` describes a type (names, nodes, faces, Gauss rule, kernel, shape
+!! functions); everything else in ictus asks it instead of testing type codes. The table is
+!! filled once from each family's `<type>_kind()`: adding an element type is one file with its
+!! shape functions and `<type>_kind()`, one code in ictus_elements_types and one line in
+!! `fill_table` (doc/architecture.md, "Adding an element type").
+!!
+!! `element_routine(task, ...)` runs one task on one element (mass, internal force, stiffness,
+!! stress, Jacobian check) through the type's kernel. Q4, Q8, Q9 and Bezier-extracted NURBS
+!! spans share the isoparametric solid kernel (ictus_elements_solid2d) and differ only in their
+!! shape data. The time loop's internal force calls `element_force` with the geometry that
+!! `element_geometry` stored once.
 module ictus_elements_library
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t
-  use ictus_elements_lagrange, only: lagrange_shape_data
+  use ictus_core_strings, only: upper
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_MAX, &
+      elem_shape_t, element_kind_t, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
+      TASK_JACOBIAN, KERNEL_SOLID2D
+  use ictus_elements_quadrature, only: gauss_rule_2d
+  use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
+  use ictus_elements_iga, only: iga_kind
+  use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
+      solid2d_min_detj, solid2d_geometry, solid2d_force
+  use ictus_materials_law, only: law_t
+  use ictus_materials_material, only: material_t
   implicit none
   private
-  public :: element_shape_data, element_default_ngauss, element_omega_max
+  public :: element_kind, etype_name, etype_nen, element_type_of, element_default_ngauss, &
+      element_shape_data, element_shape_rule, element_routine, element_out_t, &
+      element_geometry, element_force, element_omega_max, element_types_named
+
+  !> Everything is computed per unit thickness in 2D (doc/results.md): with a uniform
+  !! thickness t, stiffness, mass and forces all scale with t, and the motion does not depend
+  !! on it.
+  real(dp), parameter :: unit_thickness = 1.0_dp
+
+  !> The table of element types, filled at first use.
+  type(element_kind_t), save :: table(ETYPE_MAX)
+  logical, save :: filled = .false.
+
+  !> Results of one call of the element routine.
+  type :: element_out_t
+    !> TASK_STIFFNESS: stiffness (2 nen, 2 nen), dof order x1, y1, ...; TASK_MASS: scalar
+    !! consistent mass (nen, nen).
+    real(dp), allocatable :: s(:,:)
+    !> TASK_FORCE: internal force (2, nen).
+    real(dp), allocatable :: p(:,:)
+    !> TASK_STRESS: Cauchy stress per quadrature point (6, ngp), (xx, yy, zz, xy, yz, zx).
+    real(dp), allocatable :: sig(:,:)
+    !> TASK_MASS: element mass; TASK_FORCE: strain energy; TASK_JACOBIAN: smallest det J.
+    real(dp) :: scalar = 0.0_dp
+    !> 0, or the first quadrature point with det J <= 0 (TASK_JACOBIAN: the point of the
+    !! smallest det J); -1 for TASK_STIFFNESS of a law without a constant tangent.
+    integer :: ierr = 0
+  end type element_out_t
 
   interface
     subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
@@ -34,36 +77,217 @@ module ictus_elements_library
 
 contains
 
-  !> Full Gauss rule (points per direction) of a Lagrange element type: 2 for Q4, 3 for Q8 and
-  !! Q9; 0 for any other type.
-  pure integer function element_default_ngauss(etype)
+  !> The dispatcher: one line per element type.
+  subroutine fill_table()
+    if (filled) return
+    table(ETYPE_Q4) = q4_kind()
+    table(ETYPE_Q8) = q8_kind()
+    table(ETYPE_Q9) = q9_kind()
+    table(ETYPE_IGA) = iga_kind()
+    filled = .true.
+  end subroutine fill_table
+
+  !> Description of element type etype (an empty one, name '?', for an unknown code).
+  function element_kind(etype) result(k)
     integer, intent(in) :: etype
-    select case (etype)
-    case (ETYPE_Q4)
-      element_default_ngauss = 2
-    case (ETYPE_Q8, ETYPE_Q9)
-      element_default_ngauss = 3
-    case default
-      element_default_ngauss = 0
-    end select
+    type(element_kind_t) :: k
+    call fill_table()
+    if (etype >= 1 .and. etype <= ETYPE_MAX) k = table(etype)
+  end function element_kind
+
+  !> Deck name of an element type ('?' for an unknown code).
+  function etype_name(etype) result(name)
+    integer, intent(in) :: etype
+    character(len=:), allocatable :: name
+    call fill_table()
+    name = '?'
+    if (etype >= 1 .and. etype <= ETYPE_MAX) name = trim(table(etype)%name)
+  end function etype_name
+
+  !> Nodes per element of a finite-element type (0 for NURBS: it depends on the degrees).
+  integer function etype_nen(etype)
+    integer, intent(in) :: etype
+    call fill_table()
+    etype_nen = 0
+    if (etype >= 1 .and. etype <= ETYPE_MAX) etype_nen = table(etype)%nen
+  end function etype_nen
+
+  !> Code of the finite-element type with deck name `name` (any case); 0 when none (NURBS
+  !! spans are not named on *ELEMENT).
+  integer function element_type_of(name)
+    character(len=*), intent(in) :: name
+    integer :: t
+    call fill_table()
+    element_type_of = 0
+    do t = 1, ETYPE_MAX
+      if (table(t)%nen > 0 .and. trim(table(t)%name) == upper(trim(name))) then
+        element_type_of = t
+        return
+      end if
+    end do
+  end function element_type_of
+
+  !> The deck names of the finite-element types, comma separated (for messages).
+  function element_types_named() result(list)
+    character(len=:), allocatable :: list
+    integer :: t
+    call fill_table()
+    list = ''
+    do t = 1, ETYPE_MAX
+      if (table(t)%nen == 0) cycle
+      if (len(list) > 0) list = list//', '
+      list = list//trim(table(t)%name)
+    end do
+  end function element_types_named
+
+  !> Full Gauss rule (points per direction) of a finite-element type; 0 for NURBS (p + 1 from
+  !! the degrees) or an unknown type.
+  integer function element_default_ngauss(etype)
+    integer, intent(in) :: etype
+    call fill_table()
+    element_default_ngauss = 0
+    if (etype >= 1 .and. etype <= ETYPE_MAX) element_default_ngauss = table(etype)%ngauss
   end function element_default_ngauss
 
   !> Shape data of a finite-element type for an ngauss x ngauss Gauss rule.
-  !! etype: ETYPE_Q4/Q8/Q9; ngauss: points per direction; shp: filled (nen, ngp, n, dn, w).
-  !! For ETYPE_IGA (shape data depend on the span) or an unknown type, shp is left empty
-  !! (nen = ngp = 0, nothing allocated).
+  !! etype; ngauss: points per direction; shp: filled (nen, ngp, n, dn, w), quadrature points
+  !! with xi running fastest. For NURBS (shape data depend on the span) or an unknown type,
+  !! shp is left empty (nen = ngp = 0, nothing allocated).
   subroutine element_shape_data(etype, ngauss, shp)
     integer, intent(in) :: etype, ngauss
     type(elem_shape_t), intent(out) :: shp
-    select case (etype)
-    case (ETYPE_Q4, ETYPE_Q8, ETYPE_Q9)
-      call lagrange_shape_data(etype, ngauss, shp)
-    end select
+    real(dp) :: xq(2, ngauss*ngauss), wq(ngauss*ngauss)
+    if (etype_nen(etype) == 0) return
+    call gauss_rule_2d(ngauss, ngauss, xq, wq)
+    call element_shape_rule(etype, xq, wq, shp)
   end subroutine element_shape_data
 
+  !> Shape data of a finite-element type at any quadrature rule: points xq(ndm, ngp) in the
+  !! parent domain and weights wq(ngp). shp is left empty for NURBS or an unknown type.
+  subroutine element_shape_rule(etype, xq, wq, shp)
+    integer, intent(in) :: etype
+    real(dp), intent(in) :: xq(:,:), wq(:)
+    type(elem_shape_t), intent(out) :: shp
+    type(element_kind_t) :: k
+    integer :: g
+    k = element_kind(etype)
+    if (k%nen == 0 .or. .not. associated(k%shape)) return
+    shp%nen = k%nen
+    shp%ngp = size(wq)
+    allocate(shp%n(k%nen, shp%ngp), shp%dn(k%ndm, k%nen, shp%ngp), shp%w(shp%ngp))
+    shp%w = wq
+    do g = 1, shp%ngp
+      call k%shape(xq(:, g), shp%n(:, g), shp%dn(:, :, g))
+    end do
+  end subroutine element_shape_rule
+
+  !> The element routine: runs `task` (TASK_*) on one element of type etype with shape data
+  !! shp, node coordinates xl(ndm, nen) and material mat, in the 2D idealisation `analysis`.
+  !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
+  !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. Results go to `out` (element_out_t),
+  !! whose arrays are allocated to fit.
+  subroutine element_routine(task, etype, shp, xl, mat, analysis, out, ul, hist_old, hist_new)
+    integer, intent(in) :: task, etype, analysis
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(:,:)
+    type(material_t), intent(in) :: mat
+    type(element_out_t), intent(inout) :: out
+    real(dp), intent(in), optional :: ul(:,:), hist_old(:,:)
+    real(dp), intent(out), optional :: hist_new(:,:)
+    real(dp), allocatable :: dnx(:,:,:), dvol(:), h0(:,:), h1(:,:)
+    real(dp) :: d(3, 3)
+    integer :: nen, nh
+    logical :: ok
+    nen = shp%nen
+    out%ierr = 0
+    nh = mat%law%nhist
+    if (present(hist_old)) then
+      h0 = hist_old
+    else
+      allocate(h0(nh, shp%ngp), source=0.0_dp)
+    end if
+    select case (task)
+    case (TASK_MASS)
+      call fit(out%s, nen, nen)
+      call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
+    case (TASK_STIFFNESS)
+      call fit(out%s, 2*nen, 2*nen)
+      call mat%law%tangent_2d(analysis, d, ok)
+      if (.not. ok) then
+        out%ierr = -1
+        return
+      end if
+      call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
+    case (TASK_FORCE)
+      call fit(out%p, 2, nen)
+      allocate(dnx(2, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
+      call element_geometry(etype, shp, xl, dnx, dvol, out%ierr)
+      if (out%ierr /= 0) return
+      call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, analysis, h0, h1, &
+          out%p, out%scalar)
+      if (present(hist_new)) hist_new = h1
+    case (TASK_STRESS)
+      call fit(out%sig, 6, shp%ngp)
+      call solid2d_stress(nen, shp, xl, ul, mat%law, analysis, h0, out%sig, out%ierr)
+    case (TASK_JACOBIAN)
+      call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+    end select
+  end subroutine element_routine
+
+  !> Allocates a(n1, n2) unless it has that shape already.
+  subroutine fit(a, n1, n2)
+    real(dp), allocatable, intent(inout) :: a(:,:)
+    integer, intent(in) :: n1, n2
+    if (allocated(a)) then
+      if (size(a, 1) == n1 .and. size(a, 2) == n2) return
+      deallocate(a)
+    end if
+    allocate(a(n1, n2))
+  end subroutine fit
+
+  !> Geometry of an element for its internal force, computed once: Cartesian derivatives
+  !! dnx(ndm, nen, ngp) and volume weights dvol(ngp); ierr: 0 or the first point with
+  !! det J <= 0.
+  subroutine element_geometry(etype, shp, xl, dnx, dvol, ierr)
+    integer, intent(in) :: etype
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(:,:)
+    real(dp), intent(out) :: dnx(:,:,:), dvol(:)
+    integer, intent(out) :: ierr
+    select case (element_kind_kernel(etype))
+    case (KERNEL_SOLID2D)
+      call solid2d_geometry(shp%nen, shp, xl, unit_thickness, dnx, dvol, ierr)
+    case default
+      ierr = -1
+    end select
+  end subroutine element_geometry
+
+  !> Internal force f(ndm, nen) and strain energy of one element from its stored geometry
+  !! (element_geometry), its displacements ul(ndm, nen) and its law; hist_old/hist_new
+  !! (nhist, ngp). Called for every element in every step of the element-loop force.
+  subroutine element_force(etype, nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, &
+      f, energy)
+    integer, intent(in) :: etype, nen, ngp, analysis
+    real(dp), intent(in) :: dnx(:,:,:), dvol(:), ul(:,:), hist_old(:,:)
+    class(law_t), intent(in) :: law
+    real(dp), intent(out) :: hist_new(:,:), f(:,:), energy
+    select case (element_kind_kernel(etype))
+    case (KERNEL_SOLID2D)
+      call solid2d_force(nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, f, energy)
+    end select
+  end subroutine element_force
+
+  !> Kernel of an element type (0 for an unknown code), without copying its description.
+  integer function element_kind_kernel(etype)
+    integer, intent(in) :: etype
+    call fill_table()
+    element_kind_kernel = 0
+    if (etype >= 1 .and. etype <= ETYPE_MAX) element_kind_kernel = table(etype)%kernel
+  end function element_kind_kernel
+
   !> Largest natural frequency of one free element, omega^2 = lambda_max(K_e, M_e), with the
-  !! 2-dof-per-node mass M_e = me (x) I_2. By the element bound (physics.md §4.2) the global
-  !! omega_max is at most the maximum over the elements, so 2/max_e(omega) is a safe Δt.
+  !! 2-dof-per-node mass M_e = me (x) I_2. By the element bound (doc/theory.md §4) the global
+  !! omega_max is at most the maximum over the elements, so 2/max_e(omega) is a safe dt.
   !! nen: nodes; ke(2*nen, 2*nen): stiffness (dof order x1, y1, ...); me(nen, nen): scalar
   !! consistent mass, or, when lumped = .true., only its diagonal is used (the lumped masses);
   !! omega: the frequency, or -1 when the mass is not positive definite (a non-positive lumped

@@ -6,9 +6,11 @@
 module ictus_elements_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: elem_shape_t
+  use ictus_materials_law, only: law_t
   implicit none
   private
-  public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume
+  public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume, &
+      solid2d_geometry, solid2d_force
 
 contains
 
@@ -103,16 +105,83 @@ contains
     end do
   end subroutine solid2d_mass
 
-  !> Stresses sig = D B u at the quadrature points of shp.
-  !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; d(3, 3); sig(3, shp%ngp):
-  !! (sxx, syy, sxy) per point; ierr: 0, or the first point with det J <= 0.
-  pure subroutine solid2d_stress(nen, shp, xl, ul, d, sig, ierr)
+  !> Geometry of an element at its quadrature points, for the internal force of every later
+  !! step: Cartesian derivatives dnx(2, nen, ngp) = J^-1 dN/dxi and volume weights
+  !! dvol(ngp) = det J w_g thick. nen; shp; xl(2, nen); thick; ierr: 0, or the first point with
+  !! det J <= 0 (dnx and dvol are then incomplete).
+  pure subroutine solid2d_geometry(nen, shp, xl, thick, dnx, dvol, ierr)
     integer, intent(in) :: nen
     type(elem_shape_t), intent(in) :: shp
-    real(dp), intent(in) :: xl(2, nen), ul(2, nen), d(3, 3)
-    real(dp), intent(out) :: sig(3, shp%ngp)
+    real(dp), intent(in) :: xl(2, nen), thick
+    real(dp), intent(out) :: dnx(2, nen, shp%ngp), dvol(shp%ngp)
     integer, intent(out) :: ierr
-    real(dp) :: dnx(2, nen), detj, eps(3), grad(2, 2)
+    real(dp) :: detj
+    integer :: g
+    ierr = 0
+    dvol = 0.0_dp
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx(:, :, g))
+      if (detj <= 0.0_dp) then
+        ierr = g
+        return
+      end if
+      dvol(g) = detj*shp%w(g)*thick
+    end do
+  end subroutine solid2d_geometry
+
+  !> Displacement gradient grad(3, 3) (du_i/dx_j, zero out of plane) at one point.
+  pure function gradient(nen, dnx, ul) result(grad)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: dnx(2, nen), ul(2, nen)
+    real(dp) :: grad(3, 3)
+    grad = 0.0_dp
+    grad(1:2, 1:2) = matmul(ul, transpose(dnx))
+  end function gradient
+
+  !> Internal force of the material law, f_a = sum_g (sigma . grad N_a) dvol_g, and the strain
+  !! energy sum_g w_g dvol_g, with the geometry of `solid2d_geometry`.
+  !! nen; ngp; dnx(2, nen, ngp); dvol(ngp); ul(2, nen): displacements; law; analysis;
+  !! hist_old(:, ngp), hist_new(:, ngp): history per point (first dimension nhist, may be 0);
+  !! f(2, nen); energy.
+  pure subroutine solid2d_force(nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, &
+      f, energy)
+    integer, intent(in) :: nen, ngp
+    real(dp), intent(in) :: dnx(2, nen, ngp), dvol(ngp), ul(2, nen)
+    class(law_t), intent(in) :: law
+    integer, intent(in) :: analysis
+    real(dp), intent(in) :: hist_old(:,:)
+    real(dp), intent(out) :: hist_new(:,:)
+    real(dp), intent(out) :: f(2, nen), energy
+    real(dp) :: sig(6), w
+    integer :: g, a
+    f = 0.0_dp
+    energy = 0.0_dp
+    do g = 1, ngp
+      call law%stress(analysis, gradient(nen, dnx(:, :, g), ul), hist_old(:, g), &
+          hist_new(:, g), sig, w)
+      sig = sig*dvol(g)
+      do a = 1, nen
+        f(1, a) = f(1, a) + sig(1)*dnx(1, a, g) + sig(4)*dnx(2, a, g)
+        f(2, a) = f(2, a) + sig(4)*dnx(1, a, g) + sig(2)*dnx(2, a, g)
+      end do
+      energy = energy + w*dvol(g)
+    end do
+  end subroutine solid2d_force
+
+  !> Cauchy stress of the material law at the quadrature points of shp.
+  !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; analysis; hist(:, ngp): the
+  !! history per point; sig(6, shp%ngp): (xx, yy, zz, xy, yz, zx) per point; ierr: 0, or the
+  !! first point with det J <= 0.
+  pure subroutine solid2d_stress(nen, shp, xl, ul, law, analysis, hist, sig, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), ul(2, nen)
+    class(law_t), intent(in) :: law
+    integer, intent(in) :: analysis
+    real(dp), intent(in) :: hist(:,:)
+    real(dp), intent(out) :: sig(6, shp%ngp)
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), detj, w, hist_new(size(hist, 1))
     integer :: g
     sig = 0.0_dp
     ierr = 0
@@ -122,12 +191,7 @@ contains
         ierr = g
         return
       end if
-      ! grad(i, j) = d u_i / d x_j
-      grad = matmul(ul, transpose(dnx))
-      eps(1) = grad(1, 1)
-      eps(2) = grad(2, 2)
-      eps(3) = grad(1, 2) + grad(2, 1)
-      sig(:, g) = matmul(d, eps)
+      call law%stress(analysis, gradient(nen, dnx, ul), hist(:, g), hist_new, sig(:, g), w)
     end do
   end subroutine solid2d_stress
 

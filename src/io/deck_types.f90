@@ -8,7 +8,8 @@ module ictus_io_deck_types
   use ictus_core_kinds, only: dp, str_len
   use ictus_geometry_sides, only: SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, &
       SIDE_ALL, side_name
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
+  use ictus_elements_library, only: etype_name, etype_nen
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
       HRZ_FULL, HRZ_GAUSS2
   implicit none

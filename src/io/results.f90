@@ -8,9 +8,11 @@
 module ictus_io_results
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, etype_name
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
+  use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   use ictus_solver_domain, only: domain_t
   use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, &
       iga_viz_cells
@@ -95,7 +97,7 @@ contains
     call h5u_attr_string(r%file, 'version', ictus_version_string())
     call h5u_attr_int(r%file, 'format_version', 1)
     call h5u_attr_string(r%file, 'title', model%title)
-    if (model%plane_strain) then
+    if (model%analysis == ANALYSIS_PLANE_STRAIN) then
       call h5u_attr_string(r%file, 'analysis', 'plane strain')
     else
       call h5u_attr_string(r%file, 'analysis', 'plane stress')

@@ -5,12 +5,11 @@
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
 module ictus_solver_assemble
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: elem_shape_t, ETYPE_IGA
-  use ictus_elements_library, only: element_shape_data
+  use ictus_elements_types, only: elem_shape_t, ETYPE_MAX, TASK_MASS, TASK_STIFFNESS, &
+      TASK_JACOBIAN
+  use ictus_elements_library, only: element_shape_data, element_routine, element_out_t
   use ictus_elements_iga, only: iga_shape_data
-  use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_min_detj, &
-      solid2d_volume
-  use ictus_materials_elastic, only: elastic_dmat
+  use ictus_elements_solid2d, only: solid2d_volume
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
   use ictus_parallel_repro, only: repro_sum
@@ -42,15 +41,15 @@ module ictus_solver_assemble
     real(dp), allocatable :: c_diag(:)
   end type operators_t
 
-  !> Everything is computed per unit thickness (results-format.md): with a uniform thickness
+  !> Everything is computed per unit thickness (doc/results.md): with a uniform thickness
   !! t, stiffness, mass and contact forces all scale with t, and the motion does not depend
   !! on it. *ANALYSIS, THICKNESS= is recorded in the results file only.
   real(dp), parameter :: unit_thickness = 1.0_dp
 
   !> Shape data of the Lagrange element types, computed once per type and rule.
   type :: shape_cache_t
-    logical :: ready(3, 2:3, 2) = .false.
-    type(elem_shape_t) :: shp(3, 2:3, 2)
+    logical :: ready(ETYPE_MAX, 2:3, 2) = .false.
+    type(elem_shape_t) :: shp(ETYPE_MAX, 2:3, 2)
   end type shape_cache_t
 
 contains
@@ -63,7 +62,7 @@ contains
     type(shape_cache_t), intent(inout) :: cache
     type(elem_shape_t), intent(inout) :: shp
     integer :: ip, ie, i1, i2, t
-    if (model%etype(e) == ETYPE_IGA) then
+    if (model%patch(e) > 0) then
       ip = model%patch(e)
       ie = model%patch_elem(e)
       associate (pt => model%patches(ip))
@@ -97,9 +96,10 @@ contains
     type(graph_t) :: g
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp, shp2
-    real(dp), allocatable :: xl(:,:), ke(:,:), me(:,:), me2(:,:), ml(:), diag(:), emass(:)
-    real(dp) :: d(3, 3), mass_e, mass_e2
-    integer :: e, k, nen, ierr, i, mt, nl, nmine
+    type(element_out_t) :: kout, mout, mout2
+    real(dp), allocatable :: xl(:,:), me2(:,:), ml(:), diag(:), emass(:)
+    real(dp) :: mass_e
+    integer :: e, k, nen, i, mt, nl, nmine
     integer, allocatable :: nodes(:)
     nl = dom%nlocal
     call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
@@ -114,28 +114,32 @@ contains
       e = dom%elem(k)
       nen = model%nen(e)
       if (allocated(xl)) then
-        if (size(xl, 2) /= nen) deallocate(xl, ke, me, me2, ml, diag)
+        if (size(xl, 2) /= nen) deallocate(xl, me2, ml, diag)
       end if
-      if (.not. allocated(xl)) allocate(xl(2, nen), ke(2*nen, 2*nen), me(nen, nen), &
-          me2(nen, nen), ml(nen), diag(nen))
+      if (.not. allocated(xl)) allocate(xl(2, nen), me2(nen, nen), ml(nen), diag(nen))
       nodes = dom%conn(1:nen, k)
       xl = model%x0(:, model%conn(1:nen, e))
       mt = model%mat(e)
-      call elastic_dmat(model%young(mt), model%poisson(mt), model%plane_strain, d)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      call solid2d_stiffness(nen, shp, xl, d, unit_thickness, ke, ierr)
-      if (ierr /= 0) cycle
+      call element_routine(TASK_STIFFNESS, model%etype(e), shp, xl, model%materials(mt), &
+          model%analysis, kout)
+      if (kout%ierr /= 0) cycle
       ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
       ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
-      do i = 1, 2*nen - 1
-        ke(i + 1:, i) = ke(i, i + 1:)
-      end do
-      call bsr_add_element(ops%k, nen, nodes, ke)
-      call solid2d_mass(nen, shp, xl, model%density(mt), unit_thickness, me, mass_e, ierr)
+      associate (ke => kout%s)
+        do i = 1, 2*nen - 1
+          ke(i + 1:, i) = ke(i, i + 1:)
+        end do
+      end associate
+      call bsr_add_element(ops%k, nen, nodes, kout%s)
+      call element_routine(TASK_MASS, model%etype(e), shp, xl, model%materials(mt), &
+          model%analysis, mout)
+      mass_e = mout%scalar
       if (dom%part(e) == dom%rank) then
         nmine = nmine + 1
         emass(nmine) = mass_e
       end if
+      associate (me => mout%s)
       select case (model%mass_kind(e))
       case (MASS_CONSISTENT)
         call csr_add_element(ops%m, nen, nodes, me)
@@ -146,12 +150,12 @@ contains
       case (MASS_ROW_SUM)
         call lump_row_sum(nen, me, ml)
       case (MASS_HRZ)
-        if (model%hrz_rule(e) == HRZ_GAUSS2 .and. model%etype(e) /= ETYPE_IGA) then
+        if (model%hrz_rule(e) == HRZ_GAUSS2 .and. model%patch(e) == 0) then
           call element_shape(model, e, [2, 2], cache, 2, shp2)
-          call solid2d_mass(nen, shp2, xl, model%density(mt), unit_thickness, me2, mass_e2, &
-              ierr)
+          call element_routine(TASK_MASS, model%etype(e), shp2, xl, model%materials(mt), &
+              model%analysis, mout2)
           do i = 1, nen
-            diag(i) = me2(i, i)
+            diag(i) = mout2%s(i, i)
           end do
         else
           do i = 1, nen
@@ -177,6 +181,7 @@ contains
           ml(i) = sum(me(i, :))
         end do
       end if
+      end associate
       ops%m_diag(nodes) = ops%m_diag(nodes) + ml
     end do
     ops%total_mass = repro_sum(nmine, emass, model%nel)
@@ -202,14 +207,17 @@ contains
     logical, allocatable, intent(out) :: nonfinite(:)
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp
+    type(element_out_t) :: out
     real(dp) :: detj_min
-    integer :: e, igp, nen
+    integer :: e, nen
     allocate(bad(model%nel), nonfinite(model%nel))
     nbad = 0
     do e = 1, model%nel
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      call solid2d_min_detj(nen, shp, model%x0(:, model%conn(1:nen, e)), detj_min, igp)
+      call element_routine(TASK_JACOBIAN, model%etype(e), shp, &
+          model%x0(:, model%conn(1:nen, e)), model%materials(model%mat(e)), model%analysis, out)
+      detj_min = out%scalar
       if (.not. (detj_min > 0.0_dp .and. detj_min <= huge(1.0_dp))) then
         nbad = nbad + 1
         bad(nbad) = e
@@ -232,7 +240,7 @@ contains
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call solid2d_volume(nen, shp, model%x0(:, model%conn(1:nen, e)), unit_thickness, vol)
-      total = total + model%density(model%mat(e))*abs(vol)
+      total = total + model%materials(model%mat(e))%density*abs(vol)
       if (.not. total <= huge(1.0_dp)) then
         ebad = e
         return

@@ -7,6 +7,8 @@
 module ictus_solver_model
   use ictus_core_kinds, only: dp, str_len
   use ictus_geometry_patch, only: patch_t
+  use ictus_materials_material, only: material_t
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   implicit none
   private
   public :: model_t, model_free, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
@@ -22,8 +24,8 @@ module ictus_solver_model
 
   type :: model_t
     character(len=:), allocatable :: title
-    !> Plane strain (true) or plane stress (false).
-    logical :: plane_strain = .true.
+    !> The kinematic idealisation (ANALYSIS_PLANE_STRAIN or ANALYSIS_PLANE_STRESS).
+    integer :: analysis = ANALYSIS_PLANE_STRAIN
     real(dp) :: thickness = 1.0_dp
 
     !> Number of nodes (FE nodes first, then the control points of each patch in turn).
@@ -51,10 +53,9 @@ module ictus_solver_model
     integer, allocatable :: patch(:)
     integer, allocatable :: patch_elem(:)
 
-    !> Materials: name, Young's modulus, Poisson ratio, density.
+    !> Materials: name, density and law each (ictus_materials_material).
     integer :: nmat = 0
-    character(len=str_len), allocatable :: mat_name(:)
-    real(dp), allocatable :: young(:), poisson(:), density(:)
+    type(material_t), allocatable :: materials(:)
 
     !> Mass per element: MASS_* kind, alpha (TYPE=ALPHA), HRZ rule (HRZ_*).
     integer, allocatable :: mass_kind(:)

@@ -2,8 +2,8 @@
 !! differences, polynomial reproduction, linear completeness on a curved element, faces.
 program test_lagrange
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_nen, etype_name, &
-      elem_shape_t
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t
+  use ictus_elements_library, only: etype_name, etype_nen
   use ictus_elements_lagrange, only: lagrange_shape, lagrange_shape_data, lagrange_face_nodes
   use ictus_test_check, only: checker_t
   implicit none

@@ -2,12 +2,14 @@
 !! (physics.md §6.4), rigid-body modes, consistent-mass totals, inverted elements.
 program test_solid2d
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_nen, etype_name, &
-      elem_shape_t
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t
+  use ictus_elements_library, only: etype_name, etype_nen
   use ictus_elements_lagrange, only: lagrange_shape_data
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_volume
   use ictus_materials_elastic, only: elastic_dmat
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
+  use ictus_materials_linear_elastic, only: linear_elastic_t
   use ictus_test_check, only: checker_t
   implicit none
 
@@ -24,11 +26,16 @@ program test_solid2d
   integer, parameter :: ngrid = 5, nnode = ngrid*ngrid, ndof = 2*nnode
   type(checker_t) :: t
   real(dp) :: d(3, 3)
+  !> The law of d (E = 1000, nu = 0.2, plane strain), for the stress routine.
+  type(linear_elastic_t) :: law
+  real(dp) :: nohist(0, 9)
   integer :: k
   integer, parameter :: types(3) = [ETYPE_Q4, ETYPE_Q8, ETYPE_Q9]
 
   call t%start("elements/solid2d")
   call elastic_dmat(1000.0_dp, 0.2_dp, .true., d)
+  law = linear_elastic_t(e=1000.0_dp, nu=0.2_dp)
+  call law%init()
   do k = 1, 3
     call case_patch(t, types(k), d)
     call case_element_mass(t, types(k))
@@ -37,6 +44,12 @@ program test_solid2d
   call t%finish()
 
 contains
+
+  !> Index in the 6-component stress of the 2D Voigt component i (xx, yy, xy).
+  pure integer function voigt2(i)
+    integer, intent(in) :: i
+    voigt2 = merge(4, i, i == 3)
+  end function voigt2
 
   !> Node coordinates of the patch: a smooth nonlinear map of [0, 2]^2 (so quadratic element
   !! sides are curved) plus off-centre moves of the interior nodes.
@@ -171,7 +184,7 @@ contains
     ! stresses at every Gauss point equal D eps
     eps = [bm(1, 1), bm(2, 2), bm(1, 2) + bm(2, 1)]
     sig_ex = matmul(d, eps)
-    allocate(sig(3, shp%ngp))
+    allocate(sig(6, shp%ngp))
     do ey = 0, 1
       do ex = 0, 1
         call connectivity(ex, ey, ix)
@@ -181,11 +194,12 @@ contains
         end do
         call solid2d_min_detj(nen, shp, xl(:, 1:nen), detj_min, igp)
         call t%true(detj_min > 0.0_dp .and. igp >= 1, etype_name(et)//' patch min det J > 0')
-        call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), d, sig, ierr)
+        call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, ANALYSIS_PLANE_STRAIN, &
+            nohist, sig, ierr)
         call t%equal_int(ierr, 0, etype_name(et)//' patch stress ierr')
         do g = 1, shp%ngp
           do i = 1, 3
-            call t%close_abs(sig(i, g), sig_ex(i), 1.0e-10_dp*maxval(abs(sig_ex)), &
+            call t%close_abs(sig(voigt2(i), g), sig_ex(i), 1.0e-10_dp*maxval(abs(sig_ex)), &
                 etype_name(et)//' patch Gauss-point stress')
           end do
         end do
@@ -299,12 +313,13 @@ contains
     xl(:, 8) = [0.5_dp, 0.0_dp]
     xl(:, 9) = [0.5_dp, 0.5_dp]
     ul = 0.0_dp
-    allocate(sig(3, shp%ngp))
+    allocate(sig(6, shp%ngp))
     call solid2d_stiffness(nen, shp, xl(:, 1:nen), d, 1.0_dp, ke, ierr)
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: stiffness ierr')
     call solid2d_mass(nen, shp, xl(:, 1:nen), 1.0_dp, 1.0_dp, me, mass_e, ierr)
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: mass ierr')
-    call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), d, sig, ierr)
+    call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, ANALYSIS_PLANE_STRAIN, &
+            nohist, sig, ierr)
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: stress ierr')
     call solid2d_min_detj(nen, shp, xl(:, 1:nen), detj_min, igp)
     call t%close(detj_min, -0.25_dp, 1.0e-14_dp, etype_name(et)//' inverted: det J = -1/4')

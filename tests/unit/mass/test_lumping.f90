@@ -2,8 +2,8 @@
 !! conservation/positivity properties of §3.1 (Q4, Q9, distorted elements).
 program test_lumping
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
-      elem_shape_t
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t
+  use ictus_elements_library, only: etype_name, etype_nen
   use ictus_elements_lagrange, only: lagrange_shape_data
   use ictus_elements_solid2d, only: solid2d_mass
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8, check_positive

@@ -1,0 +1,35 @@
+!> A material of the model: its name, density and law, and the dispatcher that makes a law
+!! from the deck's name for it.
+!!
+!! Adding a law: a new file in this folder with a type that extends `law_t`
+!! (ictus_materials_law), and one line in `material_make_law`; doc/architecture.md
+!! "Adding a material law" walks through it.
+module ictus_materials_material
+  use ictus_core_kinds, only: dp, str_len
+  use ictus_materials_law, only: law_t
+  use ictus_materials_linear_elastic, only: linear_elastic_t
+  implicit none
+  private
+  public :: material_t, material_make_law
+
+  type :: material_t
+    character(len=str_len) :: name = ''
+    real(dp) :: density = 0.0_dp
+    class(law_t), allocatable :: law
+  end type material_t
+
+contains
+
+  !> Allocates the law `name` with its properties `props` (in the order of the deck card) and
+  !! initialises it; `law` stays unallocated for an unknown name.
+  subroutine material_make_law(name, props, law)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: props(:)
+    class(law_t), allocatable, intent(out) :: law
+    select case (name)
+    case ('LINEAR ELASTIC')
+      law = linear_elastic_t(e=props(1), nu=props(2))
+    end select
+    if (allocated(law)) call law%init()
+  end subroutine material_make_law
+end module ictus_materials_material
