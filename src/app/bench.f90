@@ -22,7 +22,8 @@
 !! step in the best window of each kind that SWEEP STEPS=AUTO timed (0 when it did not),
 !! sweep_kib the KiB of K the strips of the kept plan hold between a row's first and last step
 !! (0 without sweeps), tune_wide the step in the best window of wide-strip sweeps (0 when
-!! not timed), dt the step used. The time step is the deck's dt, or for dt = 0 the automatic
+!! not timed), t_elem the element-loop internal force (INTERNAL FORCE=ELEMENT) of the same
+!! model, dt the step used. The time step is the deck's dt, or for dt = 0 the automatic
 !! one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
@@ -41,8 +42,10 @@ program ictus_bench
   use ictus_solver_assemble, only: operators_t, assemble_operators
   use ictus_solver_sparse, only: bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
-  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      state_plan_sweep, step_sweep, step_window, stiffness_product
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_internal_force, only: force_op_t, force_op_init, force_apply, force_choice, &
+      FORCE_ELEMENT
+  use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window, sweeps_run
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
   use ictus_contact_contact, only: contact_t
@@ -60,10 +63,13 @@ program ictus_bench
   type(contact_t) :: contact
   type(contact_step_t) :: cs
   type(state_t) :: s
+  type(force_op_t) :: fop, fop_el
+  type(lumped_sweeps_t) :: ls
+  real(dp), allocatable :: hist_el(:,:,:)
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
   integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0, nchunk, k
-  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, t_kstep, dt, &
+  real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, t_kstep, t_elem, dt, &
       stream_bw, bytes_kmv, mass_iter, sink
   logical, allocatable :: sync(:)
   logical :: tuned
@@ -126,7 +132,11 @@ program ictus_bench
   ! the nodal damping coefficients of *DAMPING, as a run takes them (driver)
   allocate(alpha(dom%nlocal), source=0.0_dp)
   where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-  call state_init(s, ops%k, mop, dom, model%u_fixed(:, dom%halo%gid), &
+  call force_op_init(fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
+  ! the element-loop internal force of the same model, timed beside K u
+  call force_op_init(fop_el, FORCE_ELEMENT, model, dom, ops%k, mop%consistent, ierr)
+  allocate(hist_el(fop_el%el%nhist, size(fop_el%el%dvol, 1), fop_el%el%nelem), source=0.0_dp)
+  call state_init(s, fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
       model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
   n = dom%nowned
   ! a rough start velocity (a fixed pseudo-random field of the global node numbers, all
@@ -145,19 +155,19 @@ program ictus_bench
       if (cs%lnode(i) > 0) sync(cs%lnode(i)) = .true.
     end do
   end if
-  call state_plan_sweep(s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, model%sweep_steps)
+  call sweeps_plan(ls, s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, model%sweep_steps)
   ! the steps of the first four timings go in `nchunk` chunks, interleaved (see time_phases);
   ! each chunk whole sweeps: the step count is rounded up to a multiple of nchunk sweeps
   nchunk = min(4, nsteps)
-  k = nchunk*merge(s%sweep%nstage, 1, s%sweeps)
+  k = nchunk*merge(ls%plan%nstage, 1, ls%on)
   nsteps = k*((nsteps + k - 1)/k)
   ! SWEEP STEPS=AUTO: sweeps against single steps, as at the start of a run (untimed here)
-  tuned = s%tuning
-  do while (s%tuning)
-    call step_window(s, ops%k, mop, dom, between)
+  tuned = ls%tuning
+  do while (ls%tuning)
+    call sweeps_window(ls, s, fop, mop, dom, between)
   end do
   call stream_alloc(stream_mb)
-  allocate(times(9, nrep), stream(nrep))
+  allocate(times(10, nrep), stream(nrep))
   it0 = mop%total_iter
   ns0 = mop%n_solves
   do r = 1, nrep
@@ -175,6 +185,7 @@ program ictus_bench
   t_sweep = median(times(7, :))
   t_kread = median(times(8, :))
   t_kstep = median(times(9, :))
+  t_elem = median(times(10, :))
   ! the read's sums must be used, or the compiler may drop the pass
   if (sink /= sink) write(output_unit, '(a)') 'ictus-bench: K holds NaN'
   stream_bw = median(stream)
@@ -193,20 +204,20 @@ program ictus_bench
   end if
   if (env_is_root()) write(output_unit, &
       '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
-      '2(a,i0),3(a,es11.5))') &
+      '2(a,i0),4(a,es11.5))') &
       'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
       ' mass_iter=', mass_iter, ' dt=', dt, ' t_single=', t_single, ' sweep=', &
-      merge(s%sweep%nstage, 1, s%sweeps .and. s%kept), ' sweep_plan=', &
-      merge(s%sweep%nstage, 1, s%sweeps), ' t_sweep=', t_sweep, ' tune_sweep=', &
-      merge(s%tune_time(1)/max(1, s%sweep%nstage), 0.0_dp, tuned), ' tune_single=', &
-      merge(s%tune_time(2)/max(1, s%sweep%nstage), 0.0_dp, tuned), &
+      merge(ls%plan%nstage, 1, ls%on .and. ls%kept), ' sweep_plan=', &
+      merge(ls%plan%nstage, 1, ls%on), ' t_sweep=', t_sweep, ' tune_sweep=', &
+      merge(ls%tune_time(1)/max(1, ls%plan%nstage), 0.0_dp, tuned), ' tune_single=', &
+      merge(ls%tune_time(2)/max(1, ls%plan%nstage), 0.0_dp, tuned), &
       ' mass_solver=', merge(mop%solver, 0, ops%consistent), ' sweep_kib=', &
-      merge(s%sweep_bytes/1024, 0, s%sweeps), ' tune_wide=', &
-      merge(s%tune_time(3)/max(1, s%sweep%nstage), 0.0_dp, tuned .and. s%has_wide), &
-      ' t_kread=', t_kread, ' t_kstep=', t_kstep
+      merge(ls%bytes/1024, 0, ls%on), ' tune_wide=', &
+      merge(ls%tune_time(3)/max(1, ls%plan%nstage), 0.0_dp, tuned .and. ls%has_wide), &
+      ' t_kread=', t_kread, ' t_kstep=', t_kstep, ' t_elem=', t_elem
   call env_finalize()
 
 contains
@@ -217,7 +228,7 @@ contains
   !! pass that only reads the arrays of K (`read_k`), and with a consistent mass the product
   !! its step takes (`stiffness_product`: column order, K's upper blocks on one rank).
   subroutine time_phases(t)
-    real(dp), intent(out) :: t(9)
+    real(dp), intent(out) :: t(10)
     real(dp) :: t0
     integer :: k, m, ic
     ! 1.-2c. the stiffness product alone, the whole step on the run's path (no output), the
@@ -225,7 +236,7 @@ contains
     ! step's product: interleaved in nchunk chunks of steps, so that the slow drifts of a
     ! shared host's bandwidth fall on all alike
     t(1:2) = 0.0_dp
-    t(6:9) = 0.0_dp
+    t(6:10) = 0.0_dp
     m = nsteps/nchunk
     do ic = 1, nchunk
       call barrier()
@@ -236,7 +247,7 @@ contains
       t(1) = t(1) + (wall_time() - t0)
       call barrier()
       t0 = wall_time()
-      if (s%sweeps .and. s%kept) then
+      if (ls%on .and. ls%kept) then
         call sweeps(m)
       else
         call single_steps(m)
@@ -246,7 +257,7 @@ contains
       t0 = wall_time()
       call single_steps(m)
       t(6) = t(6) + (wall_time() - t0)
-      if (s%sweeps) then
+      if (ls%on) then
         call barrier()
         t0 = wall_time()
         call sweeps(m)
@@ -258,15 +269,22 @@ contains
         call read_k(size(ops%k%g%col), n, ops%k%val, ops%k%g%col, ops%k%g%row_ptr, sink)
       end do
       t(8) = t(8) + (wall_time() - t0)
-      if (s%ordered) then
+      if (fop%asm%ordered) then
         ! the product the consistent step takes (column order; K's upper blocks on one rank)
         call barrier()
         t0 = wall_time()
         do k = 1, m
-          call stiffness_product(s, ops%k, s%u, s%f)
+          call force_apply(fop, s%u, s%f, s%hist)
         end do
         t(9) = t(9) + (wall_time() - t0)
       end if
+      ! the element-loop internal force of the same model (INTERNAL FORCE=ELEMENT)
+      call barrier()
+      t0 = wall_time()
+      do k = 1, m
+        call force_apply(fop_el, s%u, s%f, hist_el)
+      end do
+      t(10) = t(10) + (wall_time() - t0)
     end do
     ! 3. phases: mass solve, contact, vector updates (the unfused passes); they run on a
     ! saved state, restored afterwards, so the runs of the whole step stay a real motion
@@ -304,18 +322,18 @@ contains
     s%u = u_save
     s%v = v_save
     s%a = a_save
-    do k = 1, 9
+    do k = 1, 10
       call allreduce_max(t(k))
     end do
     t = t/nsteps
   end subroutine time_phases
 
-  !> m steps in sweeps of s%sweep%nstage (m a multiple of it), no output.
+  !> m steps in sweeps of ls%plan%nstage (m a multiple of it), no output.
   subroutine sweeps(m)
     integer, intent(in) :: m
     integer :: k
-    do k = 1, m/s%sweep%nstage
-      call step_sweep(s, ops%k, mop, dom, between)
+    do k = 1, m/ls%plan%nstage
+      call sweeps_run(ls, s, ops%k, mop, dom, between)
     end do
   end subroutine sweeps
 
@@ -324,7 +342,7 @@ contains
     integer, intent(in) :: m
     integer :: k
     do k = 1, m
-      call step_predict(s, ops%k, mop, dom, .false.)
+      call step_predict(s, fop, mop, dom, .false.)
       call between()
       call step_finish(s, dom)
     end do

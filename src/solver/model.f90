@@ -11,7 +11,8 @@ module ictus_solver_model
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   implicit none
   private
-  public :: model_t, model_free, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+  public :: model_t, model_free, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
+      MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
 
   !> Solvers of a consistent mass (*DYNAMIC, EXPLICIT, MASS SOLVER=): a conjugate gradient to
@@ -21,6 +22,11 @@ module ictus_solver_model
   !! where it applies, else CHOLESKY.
   integer, parameter :: MASS_SOLVER_CG = 1, MASS_SOLVER_CHOLESKY = 2, MASS_SOLVER_CORRECTOR = 3, &
       MASS_SOLVER_KRONECKER = 4, MASS_SOLVER_AUTO = 5
+
+  !> How the internal force is formed (*DYNAMIC, EXPLICIT, INTERNAL FORCE=): AUTO (the
+  !! assembled K where every law has a constant tangent), ASSEMBLED, or ELEMENT (a loop over
+  !! the material laws); ictus_solver_internal_force.
+  integer, parameter :: FORCE_AUTO = 0, FORCE_ASSEMBLED = 1, FORCE_ELEMENT = 2
 
   type :: model_t
     character(len=:), allocatable :: title
@@ -81,6 +87,8 @@ module ictus_solver_model
     real(dp) :: dt = 0.0_dp
     real(dp) :: t_end = 0.0_dp
     real(dp) :: safety = 0.9_dp
+    !> Internal force (FORCE_*).
+    integer :: force_kind = FORCE_AUTO
     !> Consistent mass: its solver (MASS_SOLVER_*), the relative residual of the conjugate
     !! gradient and the number of passes of the corrector.
     integer :: mass_solver = MASS_SOLVER_AUTO

@@ -1,0 +1,408 @@
+!> The time loop of a run: from the state at t = 0 (or a checkpoint) to t_end, writing history
+!! records, field snapshots and checkpoints, as doc/theory.md "The time step" describes.
+!!
+!! The loop moves from one step at which something is due to the next: at an output step the
+!! stepper runs the predictor with the energies (`stepper_record`) and the records are written;
+!! then the stepper advances to the next step at which anything is due (`stepper_advance`),
+!! where checkpoints, the wall-time limit and progress lines are handled.
+module ictus_app_time_loop
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ictus_core_kinds, only: dp
+  use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
+  use ictus_core_logger, only: log_info, log_verbose
+  use ictus_core_strings, only: str
+  use ictus_core_timer, only: wall_time
+  use ictus_parallel_halo, only: halo_exchange
+  use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max
+  use ictus_solver_model, only: model_t
+  use ictus_solver_assemble, only: operators_t
+  use ictus_solver_domain, only: domain_t
+  use ictus_solver_mass_operator, only: mass_op_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
+      MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
+  use ictus_solver_explicit, only: state_t
+  use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
+      stepper_advance
+  use ictus_solver_contact_step, only: contact_step_t
+  use ictus_contact_contact, only: contact_t
+  use ictus_io_deck_types, only: deck_t
+  use ictus_io_deck_echo, only: deck_echo
+  use ictus_io_results, only: results_t, results_open, results_history, results_field, &
+      results_close, history_record_t, results_contact, results_reopen, results_flush, &
+      results_records
+  use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
+  use ictus_app_options, only: run_options_t, EXIT_RUNTIME, EXIT_WALL_TIME
+  implicit none
+  private
+  public :: time_loop, steps_for
+
+  !> What the loop keeps besides the stepper: the results file, paths, output intervals, the
+  !! energy at the start and the clocks.
+  type :: loop_t
+    type(results_t) :: res
+    character(len=:), allocatable :: out, ckpt, deck_text, deck_path
+    integer :: nsteps = 0, history_every = 1, field_every = 1, print_every = 1
+    integer :: restart_every = 0
+    real(dp) :: wall_limit = 0.0_dp
+    real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
+  end type loop_t
+
+contains
+
+  !> Runs the steps of the model from t = 0 (or the checkpoint of opt%restart_path) to t_end.
+  !! Returns on success; stops the program with exit status 2 on a run-time failure and 3 at
+  !! the wall-time limit (with a checkpoint).
+  subroutine time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
+    type(run_options_t), intent(in) :: opt
+    type(deck_t), intent(in) :: deck
+    type(model_t), target, intent(in) :: model
+    type(domain_t), target, intent(inout) :: dom
+    type(operators_t), target, intent(in) :: ops
+    type(mass_op_t), target, intent(inout) :: mop
+    type(contact_t), target, intent(inout) :: contact
+    type(contact_step_t), target, intent(inout) :: cs
+    real(dp), intent(in) :: dt, omega
+    type(stepper_t) :: stp
+    type(loop_t) :: lp
+    integer :: n, n_next, ierr
+    call loop_setup(lp, opt, deck, model, dt)
+    call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
+    if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
+        ' cannot be set up (det J <= 0)')
+    call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
+    call stepper_plan(stp)
+    lp%t0 = wall_time()
+    lp%t_last_print = lp%t0
+    do
+      if (output_due(lp, n)) then
+        call stepper_record(stp)
+        call check_failure(lp, stp)
+        call write_outputs(lp, stp, n)
+        if (n == lp%nsteps) exit
+      end if
+      n_next = next_event(lp, n)
+      call stepper_advance(stp, n_next)
+      call check_failure(lp, stp)
+      call checkpoint_or_stop(lp, stp, opt, n_next)
+      call progress_line(lp, stp, n, n_next)
+      n = n_next
+    end do
+    call end_of_run(lp, stp)
+    call results_close(lp%res, 'completed')
+  end subroutine time_loop
+
+  !> Paths, output intervals and the number of steps.
+  subroutine loop_setup(lp, opt, deck, model, dt)
+    type(loop_t), intent(out) :: lp
+    type(run_options_t), intent(in) :: opt
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    real(dp), intent(in) :: dt
+    lp%deck_path = opt%deck_path
+    lp%out = default_out(opt%deck_path)
+    if (allocated(opt%out_path)) lp%out = opt%out_path
+    lp%ckpt = checkpoint_path(lp%out)
+    lp%deck_text = deck_echo(deck, .true.)
+    lp%nsteps = steps_for(model%t_end, dt)
+    lp%history_every = model%history_every
+    lp%field_every = model%field_every
+    if (lp%field_every <= 0) lp%field_every = max(1, lp%nsteps/20)
+    lp%print_every = max(1, lp%nsteps/10)
+    lp%restart_every = model%restart_every
+    lp%wall_limit = opt%wall_time
+  end subroutine loop_setup
+
+  !> Opens the results file, or for a restart reads the checkpoint into the stepper and cuts
+  !! the results file back to it; n: the step the loop starts at.
+  subroutine open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(inout) :: stp
+    type(run_options_t), intent(in) :: opt
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(inout) :: dom
+    type(operators_t), intent(in) :: ops
+    type(contact_t), intent(inout) :: contact
+    type(contact_step_t), intent(inout) :: cs
+    real(dp), intent(in) :: dt, omega
+    integer, intent(out) :: n
+    type(checkpoint_t) :: ck
+    character(len=:), allocatable :: msg
+    integer, allocatable :: drop(:)
+    integer :: j
+    logical :: ok
+    n = 0
+    if (.not. allocated(opt%restart_path)) then
+      call results_open(lp%res, lp%out, model, dom, contact, lp%deck_text, env_size(), &
+          ops%m_diag, dom%halo%gid(1:dom%nowned), omega, dt)
+      call check_failure(lp, stp)
+      call log_info('results: '//lp%out)
+      return
+    end if
+    ! continue an interrupted run: state from the checkpoint, results file cut back to it
+    stp%failure = ''
+    call checkpoint_read(opt%restart_path, lp%deck_text, dom, stp%s, cs, contact, ck, msg)
+    if (len(msg) > 0) then
+      call input_error(opt%restart_path, msg)
+      call log_info('ictus: '//str(error_count())//' problem(s) in the input; nothing was run')
+      call terminate(1)
+    end if
+    n = ck%next_step
+    lp%e0 = ck%e0
+    stp%was_active = ck%was_active
+    stp%failures = ck%failures
+    drop = pack([(j, j = n, lp%nsteps)], [(mod(j, lp%field_every) == 0 .or. &
+        j == lp%nsteps, j = n, lp%nsteps)])
+    call results_reopen(lp%res, lp%out, model, dom, contact, ck%n_history, ck%field_steps, &
+        ck%field_times, drop, ok)
+    if (.not. ok) then
+      call input_error(lp%out, 'cannot reopen the results file of the interrupted run '// &
+          '(give it with -o if it is not the default)')
+      call log_info('ictus: '//str(error_count())//' problem(s) in the input; nothing was run')
+      call terminate(1)
+    end if
+    call log_info('restart: continuing at step '//str(n)//', t = '//str(stp%s%t)//' from '// &
+        opt%restart_path)
+    call log_info('results: '//lp%out)
+  end subroutine open_results
+
+  !> Whether a history record or a field snapshot is due at step n.
+  logical function output_due(lp, n)
+    type(loop_t), intent(in) :: lp
+    integer, intent(in) :: n
+    output_due = mod(n, lp%history_every) == 0 .or. mod(n, lp%field_every) == 0 .or. &
+        n == lp%nsteps
+  end function output_due
+
+  !> The next step after n at which anything is due: an output, a checkpoint, a wall-time
+  !! check (every 10 steps when a limit is set), a progress line, or the last step.
+  integer function next_event(lp, n) result(m)
+    type(loop_t), intent(in) :: lp
+    integer, intent(in) :: n
+    m = min(lp%nsteps, next_multiple(n, lp%history_every), next_multiple(n, lp%field_every), &
+        next_multiple(n, lp%print_every))
+    if (lp%restart_every > 0) m = min(m, next_multiple(n, lp%restart_every))
+    if (lp%wall_limit > 0.0_dp) m = min(m, next_multiple(n, 10))
+  end function next_event
+
+  !> The smallest multiple of k above n.
+  pure integer function next_multiple(n, k)
+    integer, intent(in) :: n, k
+    next_multiple = (n/k + 1)*k
+  end function next_multiple
+
+  !> History record (energies, contact) and field snapshot of step n, as due; the energy at
+  !! the start and the blow-up check.
+  subroutine write_outputs(lp, stp, n)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(inout) :: stp
+    integer, intent(in) :: n
+    type(history_record_t) :: rec
+    associate (s => stp%s, model => stp%model, dom => stp%dom)
+      if (mod(n, lp%history_every) == 0 .or. n == lp%nsteps) then
+        rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
+        call results_contact(lp%res, stp%contact)
+        call results_history(lp%res, rec)
+        if (n == 0) lp%e0 = total_energy(s)
+        call check_blowup(lp, stp)
+      end if
+      if (mod(n, lp%field_every) == 0 .or. n == lp%nsteps) then
+        ! the viewing samples of NURBS elements read ghost velocities too
+        if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
+        call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, &
+            dom%halo%gid(1:dom%nowned), stp%contact)
+      end if
+    end associate
+  end subroutine write_outputs
+
+  !> kinetic + strain + contact - external work at the last record.
+  pure real(dp) function total_energy(s)
+    type(state_t), intent(in) :: s
+    total_energy = s%e_kin + s%e_strain + s%e_contact - s%w_ext
+  end function total_energy
+
+  !> At step n (the state at t_n): a checkpoint when one is due (every RESTART EVERY steps, or
+  !! at the wall-time limit, checked every 10 steps), and the stop at the limit (exit 3).
+  subroutine checkpoint_or_stop(lp, stp, opt, n)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(inout) :: stp
+    type(run_options_t), intent(in) :: opt
+    integer, intent(in) :: n
+    type(checkpoint_t) :: ck
+    character(len=:), allocatable :: again
+    logical :: stop_now
+    stop_now = .false.
+    if (lp%wall_limit > 0.0_dp .and. mod(n, 10) == 0) then
+      stop_now = wall_time() - lp%t0 > lp%wall_limit
+      call allreduce_or(stop_now)
+    end if
+    if (stop_now .or. (lp%restart_every > 0 .and. mod(n, max(1, lp%restart_every)) == 0 &
+        .and. n < lp%nsteps)) then
+      call results_flush(lp%res)
+      ck%next_step = n
+      ck%e0 = lp%e0
+      ck%n_history = results_records(lp%res)
+      ck%field_steps = lp%res%field_step
+      ck%field_times = lp%res%field_time
+      ck%was_active = stp%was_active
+      ck%failures = int(stp%failures)
+      call checkpoint_write(lp%ckpt, lp%deck_text, stp%dom, stp%s, stp%cs, stp%contact, ck)
+      call log_verbose('checkpoint at step '//str(n)//': '//lp%ckpt)
+    end if
+    if (.not. stop_now) return
+    again = 'ictus '//opt%deck_path//' -o '//lp%out//' --restart '//lp%ckpt
+    call results_close(lp%res, 'stopped at the wall-time limit at step '//str(n)// &
+        '; continue with: '//again)
+    call log_info('wall-time limit of '//str(opt%wall_time)//' s reached at step '//str(n)// &
+        '; checkpoint written: '//lp%ckpt)
+    call log_info('continue with: '//again)
+    call terminate(EXIT_WALL_TIME)
+  end subroutine checkpoint_or_stop
+
+  !> A progress line (and one per contact pair) every tenth of the run or every 10 s, after
+  !! the steps from n to m.
+  subroutine progress_line(lp, stp, n, m)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    integer, intent(in) :: n, m
+    real(dp) :: elapsed
+    integer :: k
+    if (.not. (m/lp%print_every > n/lp%print_every .or. &
+        wall_time() - lp%t_last_print > 10.0_dp)) return
+    lp%t_last_print = wall_time()
+    elapsed = lp%t_last_print - lp%t0
+    call log_info('step '//str(m)//'/'//str(lp%nsteps)//'  t = '//str(stp%s%t, 5)// &
+        '  dt = '//str(stp%s%dt, 4)//'  E_total = '//str(total_energy(stp%s), 8)// &
+        '  elapsed '//str(elapsed, 3)//' s  ETA '// &
+        str(elapsed*real(lp%nsteps - m, dp)/real(max(m, 1), dp), 3)//' s')
+    do k = 1, stp%contact%npairs
+      associate (p => stp%contact%pairs(k))
+        call log_info('  contact '//trim(p%name)//': force '//str(p%force_first(1), 5)// &
+            ', '//str(p%force_first(2), 5)//'  max pressure '//str(p%max_pressure, 5)// &
+            '  max penetration '//str(p%max_penetration, 4)//'  active points '// &
+            str(p%active_points))
+      end associate
+    end do
+  end subroutine progress_line
+
+  !> The end-of-run lines: energy balance, projection failures, the mass solver's work, time.
+  subroutine end_of_run(lp, stp)
+    type(loop_t), intent(in) :: lp
+    type(stepper_t), intent(in) :: stp
+    real(dp) :: e1, drift
+    e1 = total_energy(stp%s)
+    drift = 0.0_dp
+    if (abs(lp%e0) > 0.0_dp) drift = (e1 - lp%e0)/abs(lp%e0)
+    associate (s => stp%s, mop => stp%mop)
+      call log_info('energy balance: total at start '//str(lp%e0, 10)//', at end '// &
+          str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &
+          ', contact '//str(s%e_contact, 6)//', external work '//str(s%w_ext, 6)// &
+          '); drift '//str(drift, 3))
+      if (stp%failures > 0) call warning('contact', str(int(stp%failures))//' closest-'// &
+          'point projections failed during the run (those points were treated as open)')
+      if (mop%consistent .and. mop%solver == MASS_SOLVER_CG) call log_info('consistent '// &
+          'mass: '//str(mop%n_solves)//' solves, mean '// &
+          str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
+          ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
+      if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
+          'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
+      if (mop%consistent .and. mop%solver == MASS_SOLVER_KRONECKER) call log_info( &
+          'consistent mass: '//str(mop%n_solves)//' solves along the lattice directions')
+      if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) call log_info( &
+          'consistent mass: '//str(mop%n_solves)//' approximate solves of '// &
+          str(mop%passes)//' corrector passes')
+    end associate
+    call log_info('wall time: '//str(wall_time() - lp%t0, 4)//' s for '// &
+        str(stp%s%step)//' steps')
+  end subroutine end_of_run
+
+  !> A run-time failure of the stepper (its message in stp%failure) ends the run.
+  subroutine check_failure(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    if (len(stp%failure) > 0) call runtime_failure(lp, stp, stp%failure)
+  end subroutine check_failure
+
+  !> Stops the run (exit 2) when the energies are not finite or have grown without bound.
+  !! The energies are global sums, so every rank takes the same decision.
+  subroutine check_blowup(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    real(dp) :: e
+    e = stp%s%e_kin + stp%s%e_strain
+    if (.not. ieee_is_finite(e)) then
+      call runtime_failure(lp, stp, 'the solution is not finite (NaN or overflow)')
+    else if (lp%e0 > 0.0_dp .and. e > 1.0e3_dp*lp%e0) then
+      call runtime_failure(lp, stp, 'the solution blows up: kinetic + strain energy '// &
+          str(e)//' is more than 1000 times the initial energy '//str(lp%e0)// &
+          ' (unstable time step?)')
+    end if
+  end subroutine check_blowup
+
+  !> Reports a run-time failure with the step, time and the node with the largest (or a
+  !! non-finite) velocity, closes the results as failed and exits with status 2. Collective.
+  subroutine runtime_failure(lp, stp, why)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    character(len=*), intent(in) :: why
+    integer :: i, worst
+    real(dp) :: vmax, vi, vglob
+    character(len=:), allocatable :: msg
+    worst = 0
+    vmax = -1.0_dp
+    associate (s => stp%s, dom => stp%dom, model => stp%model)
+      do i = 1, dom%nowned
+        vi = s%v(1, i)**2 + s%v(2, i)**2
+        if (.not. ieee_is_finite(vi)) vi = huge(1.0_dp)
+        if (vi > vmax) then
+          vmax = vi
+          worst = dom%halo%gid(i)
+        end if
+      end do
+      vglob = vmax
+      call allreduce_max(vglob)
+      if (vmax < vglob) worst = 0
+      call allreduce_max(worst)
+      worst = max(worst, 1)
+      msg = 'step '//str(s%step)//', t = '//str(s%t)//': '//why//'; worst at node '// &
+          str(model%node_id(worst))//' ('//str(model%x0(1, worst), 6)//', '// &
+          str(model%x0(2, worst), 6)//')'
+    end associate
+    call results_close(lp%res, 'failed: '//msg)
+    call log_info('results so far: '//lp%res%path)
+    call fatal('run-time failure', msg, EXIT_RUNTIME)
+  end subroutine runtime_failure
+
+  !> Checkpoint path next to the results: results.h5 -> results.chk.h5.
+  function checkpoint_path(out) result(path)
+    character(len=*), intent(in) :: out
+    character(len=:), allocatable :: path
+    integer :: k
+    k = len(out) - 2
+    if (k > 1) then
+      if (out(k:) == '.h5') then
+        path = out(1:k - 1)//'.chk.h5'
+        return
+      end if
+    end if
+    path = out//'.chk.h5'
+  end function checkpoint_path
+
+  !> Number of steps of size dt to reach t_end (the last one ends at or just after t_end).
+  pure integer function steps_for(t_end, dt)
+    real(dp), intent(in) :: t_end, dt
+    steps_for = max(1, ceiling(t_end/dt*(1.0_dp - 1.0e-12_dp)))
+  end function steps_for
+
+  !> Default results path: the deck's name with .h5.
+  function default_out(deck_path) result(out)
+    character(len=*), intent(in) :: deck_path
+    character(len=:), allocatable :: out
+    integer :: k, s
+    k = index(deck_path, '.', back=.true.)
+    s = index(deck_path, '/', back=.true.)
+    if (k > s + 1) then
+      out = deck_path(1:k - 1)//'.h5'
+    else
+      out = deck_path//'.h5'
+    end if
+  end function default_out
+end module ictus_app_time_loop

@@ -1,0 +1,140 @@
+!> The internal force as a loop over the elements that calls the material law at every
+!! quadrature point: f_a = sum_e int sigma(grad u, history) . grad N_a dV. What nonlinear laws
+!! and finite strain use; on a linear model it agrees with the assembled K u to round-off.
+!!
+!! Each rank loops over the elements that hold one of its owned nodes (domain_t%elem, in
+!! global order) and keeps the force of its owned rows: every row is summed over the same
+!! elements in the same order on any number of ranks, so the bits do not depend on the
+!! partition. The Cartesian shape derivatives and volume weights of every quadrature point are
+!! computed once (`element_geometry`) and stored: 8 (ndm nen + 1) bytes per point.
+module ictus_solver_force_element
+  use ictus_core_kinds, only: dp
+  use ictus_parallel_repro, only: repro_sum
+  use ictus_elements_types, only: elem_shape_t
+  use ictus_elements_library, only: element_geometry, element_force
+  use ictus_materials_material, only: material_t
+  use ictus_solver_model, only: model_t
+  use ictus_solver_domain, only: domain_t
+  use ictus_solver_assemble, only: element_shape, shape_cache_t
+  implicit none
+  private
+  public :: element_force_t, element_loop_init, element_loop_apply, element_loop_energy, &
+      element_loop_bytes
+
+  type :: element_force_t
+    !> Elements of this rank (domain_t%elem order), their types, nodes, quadrature points and
+    !! materials; local connectivity (nen_max, nelem); whether the element is this rank's own
+    !! (counted in the energy).
+    integer :: nelem = 0
+    integer :: nglobal = 0
+    integer :: analysis = 0
+    integer, allocatable :: etype(:), nen(:), ngp(:), mat(:)
+    integer, allocatable :: conn(:,:)
+    logical, allocatable :: own(:)
+    !> Geometry per quadrature point: dnx(2, nen_max, ngp_max, nelem), dvol(ngp_max, nelem).
+    real(dp), allocatable :: dnx(:,:,:,:), dvol(:,:)
+    !> The materials (copied from the model).
+    type(material_t), allocatable :: materials(:)
+    !> History variables per point (nhist_max, ngp_max, nelem) and the largest nhist.
+    integer :: nhist = 0
+    !> Strain energy of each element at the last apply, and of this rank's own elements.
+    real(dp), allocatable :: energy(:), eown(:)
+    !> Work arrays of one element.
+    real(dp), allocatable :: ul(:,:), fe(:,:), hnew(:,:)
+  end type element_force_t
+
+contains
+
+  !> Sets up the loop over this rank's elements: shape data, geometry, materials. ierr: 0, or
+  !! the global index of an element with det J <= 0 (checked before, so not expected).
+  subroutine element_loop_init(el, model, dom, ierr)
+    type(element_force_t), intent(out) :: el
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer, intent(out) :: ierr
+    type(shape_cache_t) :: cache
+    type(elem_shape_t) :: shp
+    integer :: k, e, nen, ngp_max, nen_max, m, g
+    ierr = 0
+    el%nelem = dom%nelem
+    el%nglobal = model%nel
+    el%analysis = model%analysis
+    el%materials = model%materials
+    nen_max = model%nen_max
+    ngp_max = maxval(model%gauss(1, :)*model%gauss(2, :))
+    el%nhist = 0
+    do m = 1, model%nmat
+      el%nhist = max(el%nhist, model%materials(m)%law%nhist)
+    end do
+    allocate(el%etype(el%nelem), el%nen(el%nelem), el%ngp(el%nelem), el%mat(el%nelem), &
+        el%own(el%nelem), el%energy(el%nelem))
+    el%energy = 0.0_dp
+    el%conn = dom%conn
+    allocate(el%dnx(2, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
+        source=0.0_dp)
+    allocate(el%ul(2, nen_max), el%fe(2, nen_max), el%hnew(el%nhist, ngp_max))
+    do k = 1, el%nelem
+      e = dom%elem(k)
+      nen = model%nen(e)
+      el%etype(k) = model%etype(e)
+      el%nen(k) = nen
+      el%mat(k) = model%mat(e)
+      el%own(k) = dom%part(e) == dom%rank
+      call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
+      el%ngp(k) = shp%ngp
+      call element_geometry(model%etype(e), shp, model%x0(:, model%conn(1:nen, e)), &
+          el%dnx(:, 1:nen, 1:shp%ngp, k), el%dvol(1:shp%ngp, k), g)
+      if (g /= 0 .and. ierr == 0) ierr = e
+    end do
+    allocate(el%eown(count(el%own)), source=0.0_dp)
+  end subroutine element_loop_init
+
+  !> Memory of the stored geometry, bytes.
+  pure real(dp) function element_loop_bytes(el)
+    type(element_force_t), intent(in) :: el
+    element_loop_bytes = 8.0_dp*(real(size(el%dnx), dp) + real(size(el%dvol), dp))
+  end function element_loop_bytes
+
+  !> f = f_int(u) on the nn owned rows (u: owned and ghost values, current), with the history
+  !! hist(nhist, ngp_max, nelem) of the start of the step replaced by that of its end.
+  subroutine element_loop_apply(el, nn, u, f, hist)
+    type(element_force_t), intent(inout) :: el
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: u(:,:)
+    real(dp), intent(inout) :: f(:,:)
+    real(dp), intent(inout) :: hist(:,:,:)
+    integer :: k, a, i, nen, ngp
+    f(:, 1:nn) = 0.0_dp
+    do k = 1, el%nelem
+      nen = el%nen(k)
+      ngp = el%ngp(k)
+      do a = 1, nen
+        el%ul(:, a) = u(:, el%conn(a, k))
+      end do
+      associate (law => el%materials(el%mat(k))%law)
+        call element_force(el%etype(k), nen, ngp, el%dnx(:, 1:nen, 1:ngp, k), &
+            el%dvol(1:ngp, k), el%ul(:, 1:nen), law, el%analysis, hist(:, 1:ngp, k), &
+            el%hnew(:, 1:ngp), el%fe(:, 1:nen), el%energy(k))
+      end associate
+      if (el%nhist > 0) hist(:, 1:ngp, k) = el%hnew(:, 1:ngp)
+      do a = 1, nen
+        i = el%conn(a, k)
+        if (i <= nn) f(:, i) = f(:, i) + el%fe(:, a)
+      end do
+    end do
+  end subroutine element_loop_apply
+
+  !> Strain energy at the last apply: the sum over this rank's own elements, reproducible.
+  function element_loop_energy(el) result(e)
+    type(element_force_t), intent(inout) :: el
+    real(dp) :: e
+    integer :: k, j
+    j = 0
+    do k = 1, el%nelem
+      if (.not. el%own(k)) cycle
+      j = j + 1
+      el%eown(j) = el%energy(k)
+    end do
+    e = repro_sum(j, el%eown, el%nglobal)
+  end function element_loop_energy
+end module ictus_solver_force_element

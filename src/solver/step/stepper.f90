@@ -1,0 +1,231 @@
+!> The stepper: advances the run from one step at which something must be written (a history
+!! record, a field, a checkpoint, a wall-time check, a progress line) to the next, as in
+!! doc/theory.md "The time step". Each step is
+!!
+!!     predictor (internal force, mass solve)  ->  contact correction  ->  displacement update
+!!
+!! The driver asks for two things: `stepper_record` runs the predictor of the current step with
+!! the energies at t_n (the step then waits for its contact correction and update, which the
+!! next `stepper_advance` does first), and `stepper_advance(stp, m)` runs whole steps until the
+!! state is at t_m. How the steps run is the stepper's business: with the assembled K and a
+!! lumped mass, windows of steps without output go in one sweep over K (ictus_solver_lumped_
+!! sweeps); every other model takes single steps. Both give the same bits.
+module ictus_solver_stepper
+  use ictus_core_kinds, only: dp
+  use ictus_core_logger, only: log_info
+  use ictus_core_errors, only: warning
+  use ictus_core_strings, only: str
+  use ictus_parallel_env, only: env_size, allreduce_sum
+  use ictus_contact_contact, only: contact_t, contact_failures
+  use ictus_solver_model, only: model_t
+  use ictus_solver_domain, only: domain_t
+  use ictus_solver_assemble, only: operators_t
+  use ictus_solver_mass_operator, only: mass_op_t
+  use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
+      force_kind_name, FORCE_ASSEMBLED
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
+  use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
+  implicit none
+  private
+  public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance
+
+  type :: stepper_t
+    !> The state of the run (u, v, history, energies, step counter).
+    type(state_t) :: s
+    !> The internal force.
+    type(force_op_t) :: fop
+    !> Sweeps of the linear lumped stepper (ls%on when planned).
+    type(lumped_sweeps_t) :: ls
+    !> What the steps act on, kept by the caller.
+    type(model_t), pointer :: model => null()
+    type(domain_t), pointer :: dom => null()
+    type(operators_t), pointer :: ops => null()
+    type(mass_op_t), pointer :: mop => null()
+    type(contact_t), pointer :: contact => null()
+    type(contact_step_t), pointer :: cs => null()
+    !> Whether the predictor of the current step ran for a record and its contact correction
+    !! and displacement update are still to come.
+    logical :: pending = .false.
+    !> Contact: pairs that have been active (their first contact is logged once) and the
+    !! closest-point projections that failed so far.
+    logical, allocatable :: was_active(:)
+    integer(8) :: failures = 0
+    !> Why the last call stopped, when it failed at run time (empty otherwise).
+    character(len=:), allocatable :: failure
+  end type stepper_t
+
+contains
+
+  !> Sets up the internal force (the deck's INTERNAL FORCE=, or AUTO), the state at t = 0
+  !! (prescribed u_0, v_0, the start-up half-step velocity) and the contact bookkeeping. The
+  !! arguments stay with the caller and must outlive the stepper. ierr: 0, or the global
+  !! index of an element whose geometry fails.
+  subroutine stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
+    type(stepper_t), intent(out) :: stp
+    type(model_t), target, intent(in) :: model
+    type(domain_t), target, intent(inout) :: dom
+    type(operators_t), target, intent(in) :: ops
+    type(mass_op_t), target, intent(inout) :: mop
+    type(contact_t), target, intent(inout) :: contact
+    type(contact_step_t), target, intent(inout) :: cs
+    real(dp), intent(in) :: dt
+    integer, intent(out) :: ierr
+    real(dp), allocatable :: alpha(:)
+    stp%model => model
+    stp%dom => dom
+    stp%ops => ops
+    stp%mop => mop
+    stp%contact => contact
+    stp%cs => cs
+    stp%failure = ''
+    allocate(stp%was_active(contact%npairs), source=.false.)
+    call force_op_init(stp%fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
+    if (ierr /= 0) return
+    call log_info('internal force: '//force_kind_name(stp%fop))
+    allocate(alpha(dom%nlocal), source=0.0_dp)
+    where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
+    call state_init(stp%s, stp%fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
+        model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
+    if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge at the start'
+  end subroutine stepper_init
+
+  !> Plans the sweeps of the linear lumped stepper (assembled K, lumped mass) and logs the
+  !! internal-force product; call once the state is final (after a restart's checkpoint).
+  subroutine stepper_plan(stp)
+    type(stepper_t), intent(inout) :: stp
+    logical, allocatable :: sync(:)
+    character(len=:), allocatable :: msg
+    integer :: k
+    if (stp%fop%kind == FORCE_ASSEMBLED .and. stp%mop%consistent) call log_product(stp%fop)
+    if (stp%fop%kind /= FORCE_ASSEMBLED) return
+    ! the contact nodes are touched between the steps of a sweep
+    allocate(sync(stp%dom%nowned), source=.false.)
+    if (stp%contact%npairs > 0) then
+      do k = 1, stp%cs%ncn
+        if (stp%cs%lnode(k) > 0) sync(stp%cs%lnode(k)) = .true.
+      end do
+    end if
+    call sweeps_plan(stp%ls, stp%s, stp%ops%k, stp%mop, stp%dom, &
+        stp%model%x0(:, stp%dom%halo%gid(1:stp%dom%nowned)), sync, stp%model%sweep_steps)
+    if (.not. stp%ls%on) return
+    msg = ''
+    if (stp%ls%tuning) msg = '; timed against single steps first'
+    if (stp%ls%tuning .and. stp%ls%has_wide) msg = msg//' and against wide strips'
+    call log_info('sweeps: '//str(stp%ls%plan%nstage)//' steps per sweep over K between '// &
+        'outputs ('//str(stp%ls%plan%strip)//' strips; '//str(stp%ls%plan%zone_rows(1))// &
+        ' rows of '//str(stp%dom%nowned)//' stepped one step at a time)'//msg)
+  end subroutine stepper_plan
+
+  !> The predictor of the current step n with the energies at t_n (for a history record or a
+  !! field); its contact correction and displacement update come with the next
+  !! `stepper_advance`.
+  subroutine stepper_record(stp)
+    type(stepper_t), intent(inout) :: stp
+    call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .true.)
+    stp%pending = .true.
+    if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
+  end subroutine stepper_record
+
+  !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
+  !! step, then windows of one sweep where the linear lumped stepper has them, single steps
+  !! otherwise. Stops early with stp%failure set on a run-time failure.
+  subroutine stepper_advance(stp, n_to)
+    type(stepper_t), intent(inout) :: stp
+    integer, intent(in) :: n_to
+    logical :: tuning
+    if (stp%pending) then
+      stp%pending = .false.
+      call contact_between()
+      call step_finish(stp%s, stp%dom)
+    end if
+    do while (stp%s%step < n_to .and. len(stp%failure) == 0)
+      if (stp%ls%on .and. stp%ls%kept .and. stp%s%step + stp%ls%plan%nstage <= n_to) then
+        tuning = stp%ls%tuning
+        call sweeps_window(stp%ls, stp%s, stp%fop, stp%mop, stp%dom, contact_between)
+        if (tuning .and. .not. stp%ls%tuning) call log_tuning(stp%ls)
+      else
+        call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .false.)
+        if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
+        if (len(stp%failure) > 0) return
+        call contact_between()
+        call step_finish(stp%s, stp%dom)
+      end if
+    end do
+
+  contains
+
+    !> The contact correction of the current step, its failure count and the log line of a
+    !! pair that becomes active (between the predictor and the displacement update).
+    subroutine contact_between()
+      integer :: kp
+      real(dp) :: r
+      character(len=256) :: where
+      if (stp%contact%npairs == 0) return
+      call contact_correct(stp%cs, stp%contact, stp%s, stp%mop, stp%dom, stp%model%x0)
+      if (stp%cs%ierr /= 0) stp%failure = 'the consistent-mass solve of the contact '// &
+          'correction did not converge'
+      stp%failures = stp%failures + contact_failures(stp%contact)
+      do kp = 1, stp%contact%npairs
+        if (stp%contact%pairs(kp)%active_points > 0 .and. .not. stp%was_active(kp)) then
+          stp%was_active(kp) = .true.
+          call contact_ratio(stp%cs, stp%contact, stp%model%x0, stp%s%u, stp%ops%m_pos, &
+              stp%s%dt, r, where)
+          call log_info('contact '//trim(stp%contact%pairs(kp)%name)//' becomes active at '// &
+              't = '//str(stp%s%t + stp%s%dt)//'; stability ratio r = '//str(r, 4)//' ('// &
+              trim(where)//')')
+          if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
+              ' exceeds 1/2 at '//trim(where))
+        end if
+      end do
+    end subroutine contact_between
+  end subroutine stepper_advance
+
+  !> The log line of the end of the SWEEP STEPS=AUTO timing.
+  subroutine log_tuning(ls)
+    type(lumped_sweeps_t), intent(in) :: ls
+    character(len=:), allocatable :: msg, wmsg
+    msg = 'dropped: single steps are faster'
+    if (ls%kept) msg = 'kept: faster than single steps'
+    if (ls%kept .and. ls%has_wide) msg = msg//', strips of '//str(ls%bytes/1024)//' KiB of K'
+    wmsg = ''
+    if (ls%has_wide) wmsg = ', '//str(1.0e3_dp*ls%tune_time(3), 3)//' ms in one sweep of '// &
+        'wide strips'
+    call log_info('sweeps: '//msg//' here (a window of '//str(ls%plan%nstage)// &
+        ' steps in the best trial of each: '//str(1.0e3_dp*ls%tune_time(1), 3)// &
+        ' ms in one sweep, '//str(1.0e3_dp*ls%tune_time(2), 3)//' ms one step at a '// &
+        'time'//wmsg//')')
+  end subroutine log_tuning
+
+  !> The log line of the assembled product of a consistent-mass step: from K's upper blocks on
+  !! ranks that hold all rows of their nodes' neighbours (one rank; a rank whose part has no
+  !! ghosts), else from the full rows; the same bits either way.
+  subroutine log_product(fop)
+    type(force_op_t), intent(in) :: fop
+    integer :: nup, nshort
+    real(dp) :: mb
+    nup = merge(1, 0, fop%asm%kup%n > 0)
+    nshort = merge(1, 0, fop%asm%kup%short_of_memory)
+    mb = 0.0_dp
+    if (fop%asm%kup%n > 0) mb = 36.0_dp*real(size(fop%asm%kup%col), dp)/1.0e6_dp
+    call allreduce_sum(nup)
+    call allreduce_sum(nshort)
+    call allreduce_sum(mb)
+    if (env_size() == 1 .and. nup == 1) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K ('// &
+          str(mb, 3)//' MB more; half the bytes per product)')
+    else if (nup == env_size()) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K on '// &
+          'all '//str(nup)//' ranks (parts without ghosts; '//str(mb, 3)//' MB more)')
+    else if (nup > 0) then
+      call log_info('stiffness product: summed in column order from the upper blocks of K on '// &
+          str(nup)//' of '//str(env_size())//' ranks (parts without ghosts; '//str(mb, 3)// &
+          ' MB more), the full rows on the others')
+    else if (nshort > 0) then
+      call log_info('stiffness product: summed in column order from the full rows of K '// &
+          '(its upper blocks would take more than half the memory available)')
+    else
+      call log_info('stiffness product: summed in column order from the full rows of K')
+    end if
+  end subroutine log_product
+end module ictus_solver_stepper
