@@ -4,14 +4,15 @@ module ictus_elements_types
   use ictus_core_kinds, only: dp
   implicit none
   private
-  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_MAX, elem_shape_t, element_kind_t, &
-      shape_at_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
+  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, elem_shape_t, &
+      element_kind_t, shape_at_i, rule_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
       KERNEL_SOLID2D
 
   !> Lagrange/serendipity quadrilaterals from *ELEMENT, and NURBS (Bezier-extracted) spans.
-  !! Codes index the dispatcher's table (ictus_elements_library): a new type takes the next.
+  !! Codes index the dispatcher's table (ictus_elements_library); a type registered at run
+  !! time (`element_register`) takes the next code after ETYPE_BUILTIN.
   integer, parameter :: ETYPE_Q4 = 1, ETYPE_Q8 = 2, ETYPE_Q9 = 3, ETYPE_IGA = 4
-  integer, parameter :: ETYPE_MAX = 4
+  integer, parameter :: ETYPE_BUILTIN = 4
 
   !> Tasks of the element routine (`element_routine`): the scalar consistent mass, the internal
   !! force of the material law, the small-strain stiffness of a linear law, the stress at the
@@ -45,6 +46,14 @@ module ictus_elements_types
       real(dp), intent(in) :: xi(:)
       real(dp), intent(out) :: n(:), dn(:,:)
     end subroutine shape_at_i
+    !> Quadrature rule of an element type for `n` (points per direction of a tensor rule, or
+    !! the type's own measure of its order): points xq(ndm, ngp) in the parent domain and
+    !! weights wq(ngp), allocated here.
+    pure subroutine rule_i(n, xq, wq)
+      import :: dp
+      integer, intent(in) :: n
+      real(dp), allocatable, intent(out) :: xq(:,:), wq(:)
+    end subroutine rule_i
   end interface
 
   !> What the rest of the program knows of an element type: names, sizes, faces, the kernel
@@ -72,5 +81,7 @@ module ictus_elements_types
     integer :: kernel = KERNEL_SOLID2D
     !> Shape functions at a parent point (null for NURBS, whose shape depends on the span).
     procedure(shape_at_i), pointer, nopass :: shape => null()
+    !> Quadrature rule; null: the tensor Gauss rule of ndm directions on [-1, 1]^ndm.
+    procedure(rule_i), pointer, nopass :: rule => null()
   end type element_kind_t
 end module ictus_elements_types

@@ -15,7 +15,7 @@
 module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_MAX, &
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, &
       elem_shape_t, element_kind_t, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
       TASK_JACOBIAN, KERNEL_SOLID2D
   use ictus_elements_quadrature, only: gauss_rule_2d
@@ -27,7 +27,7 @@ module ictus_elements_library
   use ictus_materials_material, only: material_t
   implicit none
   private
-  public :: element_kind, etype_name, etype_nen, element_type_of, element_default_ngauss, &
+  public :: element_kind, element_register, element_type_count, etype_name, etype_nen, element_type_of, element_default_ngauss, &
       element_shape_data, element_shape_rule, element_routine, element_out_t, &
       element_geometry, element_force, element_omega_max, element_types_named
 
@@ -36,9 +36,9 @@ module ictus_elements_library
   !! on it.
   real(dp), parameter :: unit_thickness = 1.0_dp
 
-  !> The table of element types, filled at first use.
-  type(element_kind_t), save :: table(ETYPE_MAX)
-  logical, save :: filled = .false.
+  !> The table of element types, filled at first use; `ntypes` in use.
+  type(element_kind_t), allocatable, save :: table(:)
+  integer, save :: ntypes = 0
 
   !> Results of one call of the element routine.
   type :: element_out_t
@@ -52,7 +52,7 @@ module ictus_elements_library
     !> TASK_MASS: element mass; TASK_FORCE: strain energy; TASK_JACOBIAN: smallest det J.
     real(dp) :: scalar = 0.0_dp
     !> 0, or the first quadrature point with det J <= 0 (TASK_JACOBIAN: the point of the
-    !! smallest det J); -1 for TASK_STIFFNESS of a law without a constant tangent.
+    !! smallest det J).
     integer :: ierr = 0
   end type element_out_t
 
@@ -79,20 +79,44 @@ contains
 
   !> The dispatcher: one line per element type.
   subroutine fill_table()
-    if (filled) return
+    if (ntypes > 0) return
+    allocate(table(ETYPE_BUILTIN + 4))
     table(ETYPE_Q4) = q4_kind()
     table(ETYPE_Q8) = q8_kind()
     table(ETYPE_Q9) = q9_kind()
     table(ETYPE_IGA) = iga_kind()
-    filled = .true.
+    ntypes = ETYPE_BUILTIN
   end subroutine fill_table
+
+  !> Adds an element type at run time (a type defined outside src/elements, e.g. by a test)
+  !! and returns its code.
+  function element_register(k) result(etype)
+    type(element_kind_t), intent(in) :: k
+    integer :: etype
+    type(element_kind_t), allocatable :: grown(:)
+    call fill_table()
+    if (ntypes == size(table)) then
+      allocate(grown(2*size(table)))
+      grown(1:ntypes) = table(1:ntypes)
+      call move_alloc(grown, table)
+    end if
+    ntypes = ntypes + 1
+    table(ntypes) = k
+    etype = ntypes
+  end function element_register
+
+  !> Number of element types (codes 1 .. element_type_count()).
+  integer function element_type_count()
+    call fill_table()
+    element_type_count = ntypes
+  end function element_type_count
 
   !> Description of element type etype (an empty one, name '?', for an unknown code).
   function element_kind(etype) result(k)
     integer, intent(in) :: etype
     type(element_kind_t) :: k
     call fill_table()
-    if (etype >= 1 .and. etype <= ETYPE_MAX) k = table(etype)
+    if (etype >= 1 .and. etype <= ntypes) k = table(etype)
   end function element_kind
 
   !> Deck name of an element type ('?' for an unknown code).
@@ -101,7 +125,7 @@ contains
     character(len=:), allocatable :: name
     call fill_table()
     name = '?'
-    if (etype >= 1 .and. etype <= ETYPE_MAX) name = trim(table(etype)%name)
+    if (etype >= 1 .and. etype <= ntypes) name = trim(table(etype)%name)
   end function etype_name
 
   !> Nodes per element of a finite-element type (0 for NURBS: it depends on the degrees).
@@ -109,7 +133,7 @@ contains
     integer, intent(in) :: etype
     call fill_table()
     etype_nen = 0
-    if (etype >= 1 .and. etype <= ETYPE_MAX) etype_nen = table(etype)%nen
+    if (etype >= 1 .and. etype <= ntypes) etype_nen = table(etype)%nen
   end function etype_nen
 
   !> Code of the finite-element type with deck name `name` (any case); 0 when none (NURBS
@@ -119,7 +143,7 @@ contains
     integer :: t
     call fill_table()
     element_type_of = 0
-    do t = 1, ETYPE_MAX
+    do t = 1, ntypes
       if (table(t)%nen > 0 .and. trim(table(t)%name) == upper(trim(name))) then
         element_type_of = t
         return
@@ -133,7 +157,7 @@ contains
     integer :: t
     call fill_table()
     list = ''
-    do t = 1, ETYPE_MAX
+    do t = 1, ntypes
       if (table(t)%nen == 0) cycle
       if (len(list) > 0) list = list//', '
       list = list//trim(table(t)%name)
@@ -146,19 +170,26 @@ contains
     integer, intent(in) :: etype
     call fill_table()
     element_default_ngauss = 0
-    if (etype >= 1 .and. etype <= ETYPE_MAX) element_default_ngauss = table(etype)%ngauss
+    if (etype >= 1 .and. etype <= ntypes) element_default_ngauss = table(etype)%ngauss
   end function element_default_ngauss
 
-  !> Shape data of a finite-element type for an ngauss x ngauss Gauss rule.
-  !! etype; ngauss: points per direction; shp: filled (nen, ngp, n, dn, w), quadrature points
-  !! with xi running fastest. For NURBS (shape data depend on the span) or an unknown type,
+  !> Shape data of a finite-element type for its quadrature rule of `ngauss`: the type's own
+  !! rule where it has one, else the ngauss x ngauss Gauss rule (xi running fastest).
+  !! etype; ngauss; shp: filled (nen, ngp, n, dn, w). For NURBS (shape data depend on the span) or an unknown type,
   !! shp is left empty (nen = ngp = 0, nothing allocated).
   subroutine element_shape_data(etype, ngauss, shp)
     integer, intent(in) :: etype, ngauss
     type(elem_shape_t), intent(out) :: shp
-    real(dp) :: xq(2, ngauss*ngauss), wq(ngauss*ngauss)
-    if (etype_nen(etype) == 0) return
-    call gauss_rule_2d(ngauss, ngauss, xq, wq)
+    real(dp), allocatable :: xq(:,:), wq(:)
+    type(element_kind_t) :: k
+    k = element_kind(etype)
+    if (k%nen == 0) return
+    if (associated(k%rule)) then
+      call k%rule(ngauss, xq, wq)
+    else
+      allocate(xq(2, ngauss*ngauss), wq(ngauss*ngauss))
+      call gauss_rule_2d(ngauss, ngauss, xq, wq)
+    end if
     call element_shape_rule(etype, xq, wq, shp)
   end subroutine element_shape_data
 
@@ -181,7 +212,8 @@ contains
     end do
   end subroutine element_shape_rule
 
-  !> The element routine: runs `task` (TASK_*) on one element of type etype with shape data
+  !> The element routine: runs `task` (TASK_*; TASK_STIFFNESS with the law's reference
+  !! tangent) on one element of type etype with shape data
   !! shp, node coordinates xl(ndm, nen) and material mat, in the 2D idealisation `analysis`.
   !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
   !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. Results go to `out` (element_out_t),
@@ -197,7 +229,6 @@ contains
     real(dp), allocatable :: dnx(:,:,:), dvol(:), h0(:,:), h1(:,:)
     real(dp) :: d(3, 3)
     integer :: nen, nh
-    logical :: ok
     nen = shp%nen
     out%ierr = 0
     nh = mat%law%nhist
@@ -212,11 +243,7 @@ contains
       call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
     case (TASK_STIFFNESS)
       call fit(out%s, 2*nen, 2*nen)
-      call mat%law%tangent_2d(analysis, d, ok)
-      if (.not. ok) then
-        out%ierr = -1
-        return
-      end if
+      call mat%law%tangent_2d(analysis, d)
       call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
     case (TASK_FORCE)
       call fit(out%p, 2, nen)
@@ -282,7 +309,7 @@ contains
     integer, intent(in) :: etype
     call fill_table()
     element_kind_kernel = 0
-    if (etype >= 1 .and. etype <= ETYPE_MAX) element_kind_kernel = table(etype)%kernel
+    if (etype >= 1 .and. etype <= ntypes) element_kind_kernel = table(etype)%kernel
   end function element_kind_kernel
 
   !> Largest natural frequency of one free element, omega^2 = lambda_max(K_e, M_e), with the

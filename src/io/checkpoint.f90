@@ -80,6 +80,7 @@ contains
     call h5u_write_rows(f, 'a', s%a(:, 1:dom%nowned), gid, dom%nn_global)
     if (allocated(cs%ac)) call h5u_write_rows(f, 'a_contact', cs%ac(:, 1:dom%nowned), gid, &
         dom%nn_global)
+    if (size(s%hist) > 0) call write_history(f, dom, s)
     call h5u_attr_int(f, 'npairs', contact%npairs)
     do k = 1, contact%npairs
       associate (p => contact%pairs(k))
@@ -158,6 +159,7 @@ contains
       call h5u_read(f, 'a_contact', x)
       cs%ac = x(:, dom%halo%gid)
     end if
+    if (size(s%hist) > 0) call read_history(f, dom, s)
     allocate(ck%was_active(contact%npairs))
     allocate(vals(8))
     do k = 1, contact%npairs
@@ -180,6 +182,43 @@ contains
     end do
     call h5u_close_file(f)
   end subroutine checkpoint_read
+
+  !> The quadrature-point history of the material laws, one row per element (global element
+  !! order), written by the rank that owns the element (domain_t%part).
+  subroutine write_history(f, dom, s)
+    integer(hid_t), intent(in) :: f
+    type(domain_t), intent(in) :: dom
+    type(state_t), intent(in) :: s
+    real(dp), allocatable :: rows(:,:)
+    integer, allocatable :: gid(:)
+    integer :: k, j, m, nown
+    m = size(s%hist, 1)*size(s%hist, 2)
+    nown = count(dom%part(dom%elem) == dom%rank)
+    allocate(rows(m, nown), gid(nown))
+    j = 0
+    do k = 1, dom%nelem
+      if (dom%part(dom%elem(k)) /= dom%rank) cycle
+      j = j + 1
+      rows(:, j) = reshape(s%hist(:, :, k), [m])
+      gid(j) = dom%elem(k)
+    end do
+    call h5u_write_rows(f, 'history', rows, gid, size(dom%part))
+  end subroutine write_history
+
+  !> Reads the history of every element of this rank (any partition) from write_history's
+  !! rows.
+  subroutine read_history(f, dom, s)
+    integer(hid_t), intent(in) :: f
+    type(domain_t), intent(in) :: dom
+    type(state_t), intent(inout) :: s
+    real(dp), allocatable :: rows(:,:)
+    integer :: k
+    allocate(rows(size(s%hist, 1)*size(s%hist, 2), size(dom%part)))
+    call h5u_read(f, 'history', rows)
+    do k = 1, dom%nelem
+      s%hist(:, :, k) = reshape(rows(:, dom%elem(k)), [size(s%hist, 1), size(s%hist, 2)])
+    end do
+  end subroutine read_history
 
   !> Number of field snapshots recorded in the checkpoint.
   integer function field_count(f)

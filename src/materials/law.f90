@@ -6,8 +6,9 @@
 !! history at the end of the step and the strain-energy density come out. The element keeps
 !! no state of its own, so a law with history stores it in the state of the run (and so in
 !! checkpoints) through `nhist`. `wave_speed` gives the dilatational wave speed that bounds
-!! the stable time step, and `tangent_2d` the constant small-strain tangent where the law has
-!! one (then the internal force may be the assembled product K u; doc/theory.md).
+!! the stable time step, and `tangent_2d` the small-strain tangent at the reference state; a
+!! `linear` law's tangent is exact everywhere, so its internal force may be the assembled
+!! product K u (doc/theory.md).
 !!
 !! Tensors are 3 x 3 in every dimension: a 2D analysis has zero out-of-plane gradients, and the
 !! stress comes back in Voigt order (xx, yy, zz, xy, yz, zx).
@@ -25,10 +26,12 @@ module ictus_materials_law
     character(len=32) :: name = ''
     !> History variables per quadrature point (0 for an elastic law).
     integer :: nhist = 0
-    !> Whether the law has a constant small-strain tangent, and the tangent in 2D Voigt order
-    !! (xx, yy, xy; engineering shear): (:, :, 1) plane strain, (:, :, 2) plane stress. Set by
-    !! the law's `init` for a linear law.
-    logical :: has_tangent = .false.
+    !> The small-strain tangent at the reference state in 2D Voigt order (xx, yy, xy;
+    !! engineering shear): (:, :, 1) plane strain, (:, :, 2) plane stress; set by every law's
+    !! `init`. It gives the stiffness of the stable-step estimate at the start, and, for a
+    !! linear law (`linear`: the tangent is exact at every state, f_int = K u), the internal
+    !! force itself.
+    logical :: linear = .false.
     real(dp) :: d2(3, 3, 2) = 0.0_dp
   contains
     !> Sets the components above from the law's properties; called once by
@@ -38,7 +41,7 @@ module ictus_materials_law
     procedure(law_stress_i), deferred :: stress
     !> Dilatational wave speed (for the stable time step).
     procedure(law_wave_i), deferred :: wave_speed
-    !> The constant small-strain tangent in 2D Voigt order, if the law has one.
+    !> The tangent at the reference state in 2D Voigt order.
     procedure :: tangent_2d => law_tangent_2d
   end type law_t
 
@@ -70,14 +73,11 @@ module ictus_materials_law
 
 contains
 
-  !> d(3, 3): the tangent of the 2D idealisation `analysis`; ok = .false. (and d = 0) for a
-  !! law without a constant tangent.
-  pure subroutine law_tangent_2d(this, analysis, d, ok)
+  !> d(3, 3): the reference tangent of the 2D idealisation `analysis`.
+  pure subroutine law_tangent_2d(this, analysis, d)
     class(law_t), intent(in) :: this
     integer, intent(in) :: analysis
     real(dp), intent(out) :: d(3, 3)
-    logical, intent(out) :: ok
-    ok = this%has_tangent
     d = this%d2(:, :, merge(2, 1, analysis == ANALYSIS_PLANE_STRESS))
   end subroutine law_tangent_2d
 

@@ -23,12 +23,12 @@ module ictus_materials_linear_elastic
 
 contains
 
-  !> No history; the constant tangent of plane strain and plane stress.
+  !> No history; linear, with the tangent of plane strain and plane stress.
   subroutine le_init(this)
     class(linear_elastic_t), intent(inout) :: this
     this%name = 'linear elastic'
     this%nhist = 0
-    this%has_tangent = .true.
+    this%linear = .true.
     call elastic_dmat(this%e, this%nu, .true., this%d2(:, :, 1))
     call elastic_dmat(this%e, this%nu, .false., this%d2(:, :, 2))
   end subroutine le_init

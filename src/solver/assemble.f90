@@ -5,9 +5,9 @@
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
 module ictus_solver_assemble
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: elem_shape_t, ETYPE_MAX, TASK_MASS, TASK_STIFFNESS, &
-      TASK_JACOBIAN
-  use ictus_elements_library, only: element_shape_data, element_routine, element_out_t
+  use ictus_elements_types, only: elem_shape_t, TASK_MASS, TASK_STIFFNESS, TASK_JACOBIAN
+  use ictus_elements_library, only: element_shape_data, element_routine, element_out_t, &
+      element_type_count
   use ictus_elements_iga, only: iga_shape_data
   use ictus_elements_solid2d, only: solid2d_volume
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
@@ -46,10 +46,12 @@ module ictus_solver_assemble
   !! on it. *ANALYSIS, THICKNESS= is recorded in the results file only.
   real(dp), parameter :: unit_thickness = 1.0_dp
 
-  !> Shape data of the Lagrange element types, computed once per type and rule.
+  !> Shape data of the finite-element types, computed once per type, rule (1..max_rule) and
+  !! slot.
+  integer, parameter :: max_rule = 10
   type :: shape_cache_t
-    logical :: ready(ETYPE_MAX, 2:3, 2) = .false.
-    type(elem_shape_t) :: shp(ETYPE_MAX, 2:3, 2)
+    logical, allocatable :: ready(:,:,:)
+    type(elem_shape_t), allocatable :: shp(:,:,:)
   end type shape_cache_t
 
 contains
@@ -73,6 +75,10 @@ contains
       end associate
     else
       t = model%etype(e)
+      if (.not. allocated(cache%ready)) then
+        allocate(cache%ready(element_type_count(), max_rule, 2), source=.false.)
+        allocate(cache%shp(element_type_count(), max_rule, 2))
+      end if
       if (.not. cache%ready(t, ngauss(1), slot)) then
         call element_shape_data(t, ngauss(1), cache%shp(t, ngauss(1), slot))
         cache%ready(t, ngauss(1), slot) = .true.

@@ -37,7 +37,7 @@ module ictus_solver_internal_force
 contains
 
   !> The implementation a model gets: the deck's choice, or for FORCE_AUTO the assembled K
-  !! where every material law has a constant tangent (small strain).
+  !! where every material law is linear (small strain).
   integer function force_choice(model)
     type(model_t), intent(in) :: model
     integer :: m
@@ -45,7 +45,7 @@ contains
     if (force_choice /= FORCE_AUTO) return
     force_choice = FORCE_ASSEMBLED
     do m = 1, model%nmat
-      if (.not. model%materials(m)%law%has_tangent) force_choice = FORCE_ELEMENT
+      if (.not. model%materials(m)%law%linear) force_choice = FORCE_ELEMENT
     end do
   end function force_choice
 
