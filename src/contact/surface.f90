@@ -14,8 +14,8 @@
 module ictus_contact_surface
   use ictus_core_kinds, only: dp, str_len
   use ictus_elements_quadrature, only: gauss_legendre
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
-  use ictus_elements_lagrange, only: lagrange_face_nodes
+  use ictus_elements_types, only: element_kind_t
+  use ictus_elements_library, only: element_kind
   use ictus_geometry_patch, only: patch_t, patch_point, patch_side_elements, patch_elem_ij
   use ictus_core_errors, only: input_error
   implicit none
@@ -584,42 +584,46 @@ contains
     end do
   end subroutine bernstein_values
 
-  !> Global nodes of face `face` (1..4) of an element in order along the face (corner k,
-  !! [midside], corner k+1): a counter-clockwise element's face runs counter-clockwise.
-  !! @param etype ETYPE_Q4/Q8/Q9; @param enodes global nodes of the element (nen);
+  !> Global nodes of face `face` of an element in order along the face (corner k, [midside],
+  !! corner k+1; element_kind_t%face): a counter-clockwise element's face runs
+  !! counter-clockwise.
+  !! @param etype element type; @param enodes global nodes of the element (nen);
   !! @param conn segment nodes (3; 2 or 3 used); @param nen 2, 3, or 0 if invalid
-  pure subroutine face_segment(etype, enodes, face, conn, nen)
+  subroutine face_segment(etype, enodes, face, conn, nen)
     integer, intent(in) :: etype, enodes(:), face
     integer, intent(out) :: conn(3), nen
-    integer :: loc(3), a
-    call lagrange_face_nodes(etype, face, loc, nen)
+    type(element_kind_t) :: k
+    integer :: a
+    k = element_kind(etype)
     conn = 0
+    nen = 0
+    if (face < 1 .or. face > k%nface .or. k%nen == 0) return
+    nen = k%nfn
     do a = 1, nen
-      conn(a) = enodes(loc(a))
+      conn(a) = enodes(k%face(a, face))
     end do
   end subroutine face_segment
 
-  !> Signed area of a quadrilateral element from its boundary nodes (corners, and midsides
-  !! for Q8/Q9, in boundary order); positive when the nodes run counter-clockwise.
+  !> Signed area of an element from its boundary nodes in boundary order (the faces' nodes,
+  !! each face's last node being the next face's first); positive when the nodes run
+  !! counter-clockwise; 0 for a type without fixed nodes (NURBS).
   !! @param etype element type; @param xl nodal coordinates (2, nen)
-  pure real(dp) function element_area(etype, xl) result(area)
+  real(dp) function element_area(etype, xl) result(area)
     integer, intent(in) :: etype
     real(dp), intent(in) :: xl(:,:)
-    integer :: ring(8), nr, k, a, b
-    if (etype == ETYPE_Q8 .or. etype == ETYPE_Q9) then
-      ring = [1, 5, 2, 6, 3, 7, 4, 8]
-      nr = 8
-    else
-      ring = [1, 2, 3, 4, 0, 0, 0, 0]
-      nr = 4
-    end if
+    type(element_kind_t) :: kd
+    integer, allocatable :: ring(:)
+    integer :: nr, k, a, b
+    kd = element_kind(etype)
     area = 0.0_dp
+    if (kd%nen == 0 .or. kd%nface == 0) return
+    ring = reshape(kd%face(1:kd%nfn - 1, :), [(kd%nfn - 1)*kd%nface])
+    nr = size(ring)
     do k = 1, nr
       a = ring(k)
       b = ring(mod(k, nr) + 1)
       area = area + 0.5_dp*(xl(1, a)*xl(2, b) - xl(1, b)*xl(2, a))
     end do
-    if (etype /= ETYPE_Q4 .and. etype /= ETYPE_Q8 .and. etype /= ETYPE_Q9) area = 0.0_dp
   end function element_area
 
   !> Reverses a segment's direction: node order, weights, and the extraction operator

@@ -8,8 +8,8 @@
 module ictus_io_results
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
-  use ictus_elements_library, only: etype_name
+  use ictus_elements_types, only: ETYPE_IGA
+  use ictus_elements_library, only: etype_name, etype_nen, element_type_count
   use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
@@ -192,7 +192,7 @@ contains
     call h5u_write_rows(g, 'mass', m_diag(1:size(gid)), gid, model%nn)
     call h5u_write(g, 'node_ids', model%node_id)
     call h5u_group(g, 'elements', ge)
-    do t = ETYPE_Q4, ETYPE_IGA
+    do t = 1, element_type_count()
       ne = count(model%etype == t)
       if (ne == 0) cycle
       nen = maxval(model%nen, mask=model%etype == t)
@@ -273,9 +273,10 @@ contains
     type(domain_t), intent(in) :: dom
     integer :: t, ne, e, q, k, s
     allocate(r%grids(0))
-    do t = ETYPE_Q4, ETYPE_Q9
+    do t = 1, element_type_count()
       ne = count(model%etype == t)
-      if (ne == 0) cycle
+      ! NURBS elements are shown on their viewing cells (below)
+      if (ne == 0 .or. etype_nen(t) == 0) cycle
       r%grids = [r%grids, xdmf_grid_t(lower(etype_name(t)), t, ne, &
           maxval(model%nen, mask=model%etype == t), model%nn)]
     end do

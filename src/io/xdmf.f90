@@ -2,7 +2,8 @@
 !! It only points into the HDF5 file; it is rewritten (by rank 0) after every snapshot.
 module ictus_io_xdmf
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
+  use ictus_elements_types, only: ETYPE_IGA, element_kind_t
+  use ictus_elements_library, only: element_kind
   use ictus_parallel_env, only: env_is_root
   implicit none
   private
@@ -85,20 +86,14 @@ contains
     write(u, '(a)') '     </Attribute>'
   end subroutine attribute
 
-  !> XDMF topology name of an element type.
+  !> XDMF topology name of an element type (element_kind_t%xdmf).
   function topology(etype) result(name)
     integer, intent(in) :: etype
     character(len=:), allocatable :: name
-    select case (etype)
-    case (ETYPE_Q4, ETYPE_IGA)
-      name = 'Quadrilateral'
-    case (ETYPE_Q8)
-      name = 'Quadrilateral_8'
-    case (ETYPE_Q9)
-      name = 'Quadrilateral_9'
-    case default
-      name = 'Polyvertex'
-    end select
+    type(element_kind_t) :: k
+    k = element_kind(etype)
+    name = trim(k%xdmf)
+    if (len(name) == 0) name = 'Polyvertex'
   end function topology
 
   !> File name without its directory (the sidecar sits next to the HDF5 file).
