@@ -10,7 +10,7 @@ module ictus_solver_domain
   use ictus_parallel_env, only: env_rank, env_size, bcast, allreduce_sum
   use ictus_parallel_partition, only: partition_elements
   use ictus_parallel_halo, only: halo_t, halo_setup
-  use ictus_solver_model, only: model_t
+  use ictus_geometry_mesh, only: mesh_t
   implicit none
   private
   public :: domain_t, domain_init, domain_init_serial
@@ -39,11 +39,11 @@ module ictus_solver_domain
 
 contains
 
-  !> Partitions the model over the ranks (METIS on rank 0, broadcast) and sets up this
-  !! rank's part. `ierr` /= 0 when METIS fails.
+  !> Partitions the mesh (a model_t is one) over the ranks (METIS on rank 0, broadcast) and
+  !! sets up this rank's part. `ierr` /= 0 when METIS fails.
   subroutine domain_init(dom, model, ierr)
     type(domain_t), intent(out) :: dom
-    type(model_t), intent(in) :: model
+    class(mesh_t), intent(in) :: model
     integer, intent(out) :: ierr
     integer :: e, a, i, k, nn
     logical, allocatable :: mine(:), needed(:)

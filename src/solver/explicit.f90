@@ -97,21 +97,22 @@ contains
     type(mass_op_t), intent(inout) :: mop
     type(domain_t), intent(inout) :: dom
     real(dp), intent(in) :: u0(:,:), v0(:,:), alpha(:), m_pos(:), dt
-    integer :: nn, nl
+    integer :: nn, nl, nd
+    nd = size(u0, 1)
     nn = dom%nowned
     nl = dom%nlocal
     s%nn = nn
     s%nlocal = nl
     s%nglobal = dom%nn_global
     s%dt = dt
-    call alloc_stream(s%u, 2, nl, 0.0_dp)
-    call alloc_stream(s%v, 2, nl, 0.0_dp)
-    call alloc_stream(s%f, 2, nl, 0.0_dp)
-    call alloc_stream(s%v_old, 2, nl, 0.0_dp)
-    call alloc_stream(s%v_mid, 2, nl, 0.0_dp)
-    call alloc_stream(s%mv, 2, nl, 0.0_dp)
-    call alloc_stream(s%a, 2, nl, 0.0_dp)
-    call alloc_stream(s%u_next, 2, nl, 0.0_dp)
+    call alloc_stream(s%u, nd, nl, 0.0_dp)
+    call alloc_stream(s%v, nd, nl, 0.0_dp)
+    call alloc_stream(s%f, nd, nl, 0.0_dp)
+    call alloc_stream(s%v_old, nd, nl, 0.0_dp)
+    call alloc_stream(s%v_mid, nd, nl, 0.0_dp)
+    call alloc_stream(s%mv, nd, nl, 0.0_dp)
+    call alloc_stream(s%a, nd, nl, 0.0_dp)
+    call alloc_stream(s%u_next, nd, nl, 0.0_dp)
     s%u = u0
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)
@@ -119,7 +120,7 @@ contains
     ! whose nodes have no damping takes the damped update with h = 0, the undamped bits
     s%damped = any(alpha(1:nn) /= 0.0_dp)
     call allreduce_or(s%damped)
-    if (s%damped) call alloc_stream(s%pw, 2, nn, 1, 0.0_dp)
+    if (s%damped) call alloc_stream(s%pw, nd, nn, 1, 0.0_dp)
     associate (hs => force_hist_shape(fop))
       allocate(s%hist(hs(1), hs(2), hs(3)), source=0.0_dp)
     end associate

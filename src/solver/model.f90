@@ -1,12 +1,14 @@
-!> The model as the solver sees it: nodes and control points in one global numbering, one
-!! element list for finite elements and NURBS spans, materials, mass and damping choices,
-!! boundary and initial conditions, and the step parameters.
+!> The model as the solver sees it: the mesh (nodes and control points in one global
+!! numbering, one element list for finite elements and NURBS spans; ictus_geometry_mesh), and
+!! the run's settings on it: materials, mass and damping choices, boundary and initial
+!! conditions, and the step parameters.
 !!
 !! It is built from a deck by `ictus_app_build_model` (or directly by tests), so physics code
 !! never sees the parser.
 module ictus_solver_model
   use ictus_core_kinds, only: dp, str_len
   use ictus_geometry_patch, only: patch_t
+  use ictus_geometry_mesh, only: mesh_t
   use ictus_materials_material, only: material_t
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   implicit none
@@ -28,36 +30,13 @@ module ictus_solver_model
   !! the material laws); ictus_solver_internal_force.
   integer, parameter :: FORCE_AUTO = 0, FORCE_ASSEMBLED = 1, FORCE_ELEMENT = 2
 
-  type :: model_t
+  !> The mesh (its parent component `mesh_t`: coordinates, elements, dimension) and the
+  !! settings of the run on it.
+  type, extends(mesh_t) :: model_t
     character(len=:), allocatable :: title
     !> The kinematic idealisation (ANALYSIS_PLANE_STRAIN or ANALYSIS_PLANE_STRESS).
     integer :: analysis = ANALYSIS_PLANE_STRAIN
     real(dp) :: thickness = 1.0_dp
-
-    !> Number of nodes (FE nodes first, then the control points of each patch in turn).
-    integer :: nn = 0
-    !> Reference coordinates (2, nn).
-    real(dp), allocatable :: x0(:,:)
-    !> NURBS weights (nn); 1 for finite-element nodes.
-    real(dp), allocatable :: weight(:)
-    !> Id of each node as the user sees it (FE node id, or control-point number), (nn).
-    integer, allocatable :: node_id(:)
-
-    !> Number of elements, largest nodes per element.
-    integer :: nel = 0
-    integer :: nen_max = 0
-    !> Element type (ETYPE_*), nodes per element, connectivity (nen_max, nel) in global
-    !! node indices (1..nn), material index, Gauss points per direction (2, nel).
-    integer, allocatable :: etype(:)
-    integer, allocatable :: nen(:)
-    integer, allocatable :: conn(:,:)
-    integer, allocatable :: mat(:)
-    integer, allocatable :: gauss(:,:)
-    !> User element id (FE) or the element's number within its patch (IGA).
-    integer, allocatable :: elem_id(:)
-    !> Patch index (0 for FE elements) and element index within that patch.
-    integer, allocatable :: patch(:)
-    integer, allocatable :: patch_elem(:)
 
     !> Materials: name, density and law each (ictus_materials_material).
     integer :: nmat = 0

@@ -31,7 +31,7 @@ module ictus_solver_force_element
     integer, allocatable :: etype(:), nen(:), ngp(:), mat(:)
     integer, allocatable :: conn(:,:)
     logical, allocatable :: own(:)
-    !> Geometry per quadrature point: dnx(2, nen_max, ngp_max, nelem), dvol(ngp_max, nelem).
+    !> Geometry per quadrature point: dnx(ndm, nen_max, ngp_max, nelem), dvol(ngp_max, nelem).
     real(dp), allocatable :: dnx(:,:,:,:), dvol(:,:)
     !> The materials (copied from the model).
     type(material_t), allocatable :: materials(:)
@@ -61,7 +61,7 @@ contains
     el%analysis = model%analysis
     el%materials = model%materials
     nen_max = model%nen_max
-    ngp_max = maxval(model%gauss(1, :)*model%gauss(2, :))
+    ngp_max = maxval(product(model%gauss, dim=1))
     el%nhist = 0
     do m = 1, model%nmat
       el%nhist = max(el%nhist, model%materials(m)%law%nhist)
@@ -70,9 +70,9 @@ contains
         el%own(el%nelem), el%energy(el%nelem))
     el%energy = 0.0_dp
     el%conn = dom%conn
-    allocate(el%dnx(2, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
+    allocate(el%dnx(model%ndm, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
         source=0.0_dp)
-    allocate(el%ul(2, nen_max), el%fe(2, nen_max), el%hnew(el%nhist, ngp_max))
+    allocate(el%ul(model%ndm, nen_max), el%fe(model%ndm, nen_max), el%hnew(el%nhist, ngp_max))
     do k = 1, el%nelem
       e = dom%elem(k)
       nen = model%nen(e)
@@ -81,6 +81,11 @@ contains
       el%mat(k) = model%mat(e)
       el%own(k) = dom%part(e) == dom%rank
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
+      ! a rule has at most the points of the tensor Gauss rule of the same n
+      if (shp%ngp > ngp_max) then
+        if (ierr == 0) ierr = e
+        cycle
+      end if
       el%ngp(k) = shp%ngp
       call element_geometry(model%etype(e), shp, model%x0(:, model%conn(1:nen, e)), &
           el%dnx(:, 1:nen, 1:shp%ngp, k), el%dvol(1:shp%ngp, k), g)
