@@ -39,7 +39,7 @@ import sys
 
 KNOTS_P2 = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
 MAX_ID = 2**31 - 1                       # ids are default Fortran integers (deck_lexer.f90)
-NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_reader.f90)
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_card.f90)
 NAME_RULE = "a letter or _, then letters, digits, _, - or ., at most 64 characters"
 
 

@@ -39,7 +39,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halfdisc  # noqa: E402
 
 LOWER_IDS = 100000   # Q8: id offset of the lower body
-MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_reader.f90)
+MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_step.f90)
 
 
 def parser():

@@ -22,7 +22,7 @@ import sys
 
 MAX_ID = 2**31 - 1                       # ids are default Fortran integers (deck_lexer.f90)
 MAX_DISTORT = 0.25                       # keeps every Jacobian positive (see above)
-NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_reader.f90)
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_card.f90)
 
 
 def main():

@@ -1,0 +1,93 @@
+!> Readers of the condition cards (deck-format.md): *BOUNDARY (prescribed displacements) and
+!! *INITIAL CONDITIONS, TYPE=VELOCITY. Each data line names a node set or a node id; the
+!! names are resolved by `check_deck` (ictus_io_deck_checks), the nodes by `app/build_model`.
+module ictus_io_deck_conditions
+  use ictus_core_kinds, only: dp
+  use ictus_core_errors, only: input_error
+  use ictus_core_strings, only: str
+  use ictus_io_deck_lexer, only: token_t, line_where, split_values
+  use ictus_io_deck_types, only: deck_t, boundary_in_t, velocity_in_t
+  use ictus_io_deck_card, only: card_t, reader_t, check_params, get_choice, has_data, &
+      count_ok, tok_int, tok_real, tok_target
+  use ictus_io_deck_grow, only: grow_boundaries, grow_velocities
+  implicit none
+  private
+  public :: read_boundary, read_initial_conditions
+
+contains
+
+  !> *BOUNDARY: lines "node set or node id, first dof, last dof[, value]".
+  subroutine read_boundary(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = &
+        '*BOUNDARY: expected "node set or node id, first dof, last dof[, value]"'
+    type(boundary_in_t) :: b
+    type(token_t), allocatable :: toks(:)
+    character(len=:), allocatable :: w
+    integer :: i, n
+
+    call check_params(c, '', '')
+    if (c%bad) return
+    if (.not. has_data(c, expect)) return
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      call split_values(rd%src%lines(i)%text, toks, n)
+      if (.not. count_ok(n, 3, 4, expect, w)) return
+      if (.not. tok_target(toks, 1, expect, w, b%target)) return
+      if (.not. tok_int(toks, 2, expect, w, b%first_dof)) return
+      if (.not. tok_int(toks, 3, expect, w, b%last_dof)) return
+      b%value = 0.0_dp
+      if (n == 4) then
+        if (.not. tok_real(toks, 4, expect, w, b%value)) return
+      end if
+      if (b%first_dof < 1 .or. b%first_dof > 2 .or. b%last_dof < 1 .or. b%last_dof > 2 &
+          .or. b%first_dof > b%last_dof) then
+        call input_error(w, '*BOUNDARY: dofs '//str(b%first_dof)//' to '// &
+            str(b%last_dof)//': expected 1 <= first dof <= last dof <= 2 (1 = x, 2 = y)')
+        cycle
+      end if
+      b%where = w
+      call grow_boundaries(d%boundaries, d%n_boundaries + 1)
+      d%n_boundaries = d%n_boundaries + 1
+      d%boundaries(d%n_boundaries) = b
+    end do
+  end subroutine read_boundary
+
+  !> *INITIAL CONDITIONS, TYPE=VELOCITY: lines "node set or node id, dof, value".
+  subroutine read_initial_conditions(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = &
+        '*INITIAL CONDITIONS: expected "node set or node id, dof, value"'
+    type(velocity_in_t) :: v
+    type(token_t), allocatable :: toks(:)
+    character(len=:), allocatable :: w
+    integer :: i, n, kind
+
+    call check_params(c, 'TYPE', '')
+    call get_choice(c, 'TYPE', 'VELOCITY', kind, required=.true.)
+    if (c%bad) return
+    if (.not. has_data(c, expect)) return
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      call split_values(rd%src%lines(i)%text, toks, n)
+      if (.not. count_ok(n, 3, 3, expect, w)) return
+      if (.not. tok_target(toks, 1, expect, w, v%target)) return
+      if (.not. tok_int(toks, 2, expect, w, v%dof)) return
+      if (.not. tok_real(toks, 3, expect, w, v%value)) return
+      if (v%dof < 1 .or. v%dof > 2) then
+        call input_error(w, '*INITIAL CONDITIONS: dof '//str(v%dof)// &
+            ' outside 1..2 (1 = x, 2 = y)')
+        cycle
+      end if
+      v%where = w
+      call grow_velocities(d%velocities, d%n_velocities + 1)
+      d%n_velocities = d%n_velocities + 1
+      d%velocities(d%n_velocities) = v
+    end do
+  end subroutine read_initial_conditions
+
+end module ictus_io_deck_conditions

@@ -1,0 +1,528 @@
+!> Readers of the model cards of the finite-element mesh and of the names defined on it
+!! (deck-format.md): *HEADING, *ANALYSIS, *NODE, *ELEMENT, *NSET, *ELSET and *SURFACE.
+!!
+!! Each `read_<card>` checks its parameters, converts its data lines and appends records to
+!! the deck (`app/build_model` and `app/build_contact` turn them into the model and the
+!! contact surfaces). Names used before they are defined are resolved afterwards by
+!! `check_deck` (ictus_io_deck_checks), so the order of these cards does not matter.
+module ictus_io_deck_model
+  use ictus_core_kinds, only: dp, i8, str_len
+  use ictus_core_errors, only: input_error
+  use ictus_core_strings, only: upper, str
+  use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_int, shown
+  use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
+      where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, &
+      etype_nen, etype_name, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
+      SIDE_ETA1, SIDE_ALL, SURF_ELEMENT, SURF_PATCH
+  use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
+      has_param, has_flag, get_name, get_choice, get_ints, get_reals, no_data, has_data, &
+      count_ok, tok_int, tok_real, tok_name, plural
+  use ictus_io_deck_grow, only: grow_blocks, grow_sets, grow_surfaces
+  implicit none
+  private
+  public :: read_heading, read_analysis, read_node, read_element, read_set, read_surface
+
+  !> Codes of the choices of TYPE= (*ELEMENT) and SIDE=, in list order.
+  integer, parameter :: etype_codes(3) = [ETYPE_Q4, ETYPE_Q8, ETYPE_Q9]
+  integer, parameter :: side_codes(5) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL]
+
+contains
+
+  ! ------------------------------------------------------------------------------------------
+  ! Model-wide cards
+  ! ------------------------------------------------------------------------------------------
+
+  !> *HEADING: the data lines, joined with blanks, become the title.
+  subroutine read_heading(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    integer :: i
+    call check_params(c, '', '')
+    do i = c%first, c%last
+      if (len(d%title) > 0) d%title = d%title//' '
+      d%title = d%title//rd%src%lines(i)%text
+    end do
+  end subroutine read_heading
+
+  !> *ANALYSIS, TYPE=PLANE STRAIN|PLANE STRESS, THICKNESS=t.
+  subroutine read_analysis(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    integer :: kind
+    real(dp) :: t(1)
+
+    call check_params(c, 'TYPE|THICKNESS', '')
+    if (rd%has_analysis) call card_error(c, 'given twice (expected one *ANALYSIS card)')
+    rd%has_analysis = .true.
+    call get_choice(c, 'TYPE', 'PLANE STRAIN|PLANE STRESS', kind)
+    if (kind == 1) d%analysis = ANALYSIS_PLANE_STRAIN
+    if (kind == 2) d%analysis = ANALYSIS_PLANE_STRESS
+    if (get_reals(c, 'THICKNESS', 1, 'a number t > 0', t)) then
+      if (t(1) > 0.0_dp) then
+        d%thickness = t(1)
+      else
+        call card_error(c, 'THICKNESS='//str(t(1))//' must be > 0')
+      end if
+    end if
+    call no_data(c, rd)
+  end subroutine read_analysis
+
+  ! ------------------------------------------------------------------------------------------
+  ! Nodes and elements
+  ! ------------------------------------------------------------------------------------------
+
+  !> *NODE [, NSET=name]: data lines "id, x, y".
+  subroutine read_node(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = '*NODE: expected "id, x, y"'
+    character(len=str_len) :: nset
+    type(token_t), allocatable :: toks(:)
+    integer :: i, n, id, n0
+    real(dp) :: x, y
+
+    call check_params(c, 'NSET', '')
+    call get_name(c, 'NSET', .false., nset)
+    if (c%bad) return
+    if (.not. has_data(c, expect)) return
+    call reserve_nodes(rd, d, d%n_nodes + c%last - c%first + 1)
+    n0 = d%n_nodes
+    do i = c%first, c%last
+      call split_values(rd%src%lines(i)%text, toks, n)
+      if (n < 3) then
+        call input_error(line_where(rd%src, i), expect//', found '//str(n)//' value'// &
+            plural(n)//' (a node needs 2 coordinates)')
+        exit
+      end if
+      if (.not. count_ok(n, 3, 3, expect, line_where(rd%src, i))) exit
+      if (.not. tok_int(toks, 1, expect, line_where(rd%src, i), id)) exit
+      if (.not. tok_real(toks, 2, expect, line_where(rd%src, i), x)) exit
+      if (.not. tok_real(toks, 3, expect, line_where(rd%src, i), y)) exit
+      if (id <= 0) then
+        call input_error(line_where(rd%src, i), '*NODE: node id must be > 0, found '//str(id))
+        exit
+      end if
+      d%n_nodes = d%n_nodes + 1
+      d%node_ids(d%n_nodes) = id
+      d%node_x(:, d%n_nodes) = [x, y]
+      d%node_where(d%n_nodes) = line_where(rd%src, i)
+    end do
+    if (len_trim(nset) > 0) call add_to_set(d, nset, SET_NODE, c%where, &
+        d%node_ids(n0 + 1:d%n_nodes))
+  end subroutine read_node
+
+  !> Makes the node arrays hold at least `n` nodes.
+  subroutine reserve_nodes(rd, d, n)
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    integer, intent(in) :: n
+    integer, allocatable :: ids(:)
+    real(dp), allocatable :: x(:,:)
+    character(len=where_len), allocatable :: w(:)
+    integer :: cap
+    if (n <= rd%node_cap) return
+    cap = max(n, 2*rd%node_cap)
+    allocate(ids(cap), x(2, cap), w(cap))
+    ids(1:d%n_nodes) = d%node_ids(1:d%n_nodes)
+    x(:, 1:d%n_nodes) = d%node_x(:, 1:d%n_nodes)
+    w(1:d%n_nodes) = d%node_where(1:d%n_nodes)
+    call move_alloc(ids, d%node_ids)
+    call move_alloc(x, d%node_x)
+    call move_alloc(w, d%node_where)
+    rd%node_cap = cap
+  end subroutine reserve_nodes
+
+  !> *ELEMENT, TYPE=Q4|Q8|Q9, MATERIAL=name [, ELSET=name] [, GAUSS=2|3]: data lines
+  !! "id, n1, ..., nen". Data lines from different files go to separate blocks.
+  subroutine read_element(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=:), allocatable :: expect
+    type(element_block_in_t) :: b
+    type(token_t), allocatable :: toks(:)
+    character(len=:), allocatable :: w
+    integer :: kind, i, n, k, nel, g(1), file, id, conn(9)
+    logical :: ok
+
+    call check_params(c, 'TYPE|ELSET|MATERIAL|GAUSS', '')
+    call get_choice(c, 'TYPE', 'Q4|Q8|Q9', kind, required=.true.)
+    if (kind > 0) b%etype = etype_codes(kind)
+    call get_name(c, 'MATERIAL', .true., b%material)
+    call get_name(c, 'ELSET', .false., b%elset)
+    if (get_ints(c, 'GAUSS', 1, '2 or 3 points per direction', g)) then
+      if (g(1) == 2 .or. g(1) == 3) then
+        b%gauss = g(1)
+      else
+        call card_error(c, 'bad value GAUSS='//str(g(1))//' (expected 2 or 3)')
+      end if
+    end if
+    if (c%bad .or. kind == 0) return
+    b%nen = etype_nen(b%etype)
+    if (b%gauss == 0) b%gauss = merge(2, 3, b%etype == ETYPE_Q4)
+    expect = '*ELEMENT: expected "id, n1, ..., n'//str(b%nen)//'" (TYPE='// &
+        etype_name(b%etype)//': '//str(b%nen + 1)//' integers)'
+    if (.not. has_data(c, expect)) return
+    b%where = c%where
+    nel = 0
+    file = 0
+    allocate(b%ids(c%last - c%first + 1), b%conn(b%nen, c%last - c%first + 1), &
+        b%line(c%last - c%first + 1))
+    do i = c%first, c%last
+      if (rd%src%lines(i)%file /= file .and. nel > 0) call push_block(d, b, nel)
+      file = rd%src%lines(i)%file
+      b%file = rd%src%files(file)%s
+      w = line_where(rd%src, i)
+      call split_values(rd%src%lines(i)%text, toks, n)
+      if (.not. count_ok(n, b%nen + 1, b%nen + 1, expect, w)) exit
+      ok = tok_int(toks, 1, expect, w, id)
+      do k = 2, n
+        if (ok) ok = tok_int(toks, k, expect, w, conn(k - 1))
+      end do
+      if (.not. ok) exit
+      if (.not. element_ok(id, conn(1:b%nen), w)) cycle
+      nel = nel + 1
+      b%ids(nel) = id
+      b%conn(:, nel) = conn(1:b%nen)
+      b%line(nel) = rd%src%lines(i)%line
+    end do
+    if (nel > 0) call push_block(d, b, nel)
+  end subroutine read_element
+
+  !> Checks one element's ids: positive, no node used twice.
+  logical function element_ok(id, conn, where) result(ok)
+    integer, intent(in) :: id
+    integer, intent(in) :: conn(:)
+    character(len=*), intent(in) :: where
+    integer :: a, b
+    ok = .false.
+    if (id <= 0) then
+      call input_error(where, '*ELEMENT: element id must be > 0, found '//str(id))
+      return
+    end if
+    do a = 1, size(conn)
+      if (conn(a) <= 0) then
+        call input_error(where, '*ELEMENT: element '//str(id)//': node id must be > 0, '// &
+            'found '//str(conn(a))//' in field '//str(a + 1))
+        return
+      end if
+      do b = 1, a - 1
+        if (conn(a) == conn(b)) then
+          call input_error(where, '*ELEMENT: element '//str(id)//' uses node '// &
+              str(conn(a))//' twice (fields '//str(b + 1)//' and '//str(a + 1)//')')
+          return
+        end if
+      end do
+    end do
+    ok = .true.
+  end function element_ok
+
+  !> Appends the first `nel` elements of `b` as a new block; `nel` is reset to 0 so that `b`
+  !! takes the elements of the next file.
+  subroutine push_block(d, b, nel)
+    type(deck_t), intent(inout) :: d
+    type(element_block_in_t), intent(inout) :: b
+    integer, intent(inout) :: nel
+    call grow_blocks(d%blocks, d%n_blocks + 1)
+    d%n_blocks = d%n_blocks + 1
+    associate (nb => d%blocks(d%n_blocks))
+      nb%etype = b%etype
+      nb%nen = b%nen
+      nb%elset = b%elset
+      nb%material = b%material
+      nb%gauss = b%gauss
+      nb%ids = b%ids(1:nel)
+      nb%conn = b%conn(:, 1:nel)
+      nb%line = b%line(1:nel)
+      nb%file = b%file
+      nb%where = b%where
+    end associate
+    nel = 0
+  end subroutine push_block
+
+  ! ------------------------------------------------------------------------------------------
+  ! Sets and surfaces
+  ! ------------------------------------------------------------------------------------------
+
+  !> *NSET, NSET=name (ids / set names, GENERATE, or PATCH=, SIDE=) and *ELSET, ELSET=name.
+  subroutine read_set(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=str_len) :: name, patch
+    character(len=:), allocatable :: key
+    integer :: kind, side, k
+
+    if (c%kw%name == 'NSET') then
+      key = 'NSET'
+      kind = SET_NODE
+      call check_params(c, 'NSET|PATCH|SIDE', 'GENERATE')
+    else
+      key = 'ELSET'
+      kind = SET_ELEMENT
+      call check_params(c, 'ELSET', 'GENERATE')
+    end if
+    call get_name(c, key, .true., name)
+    call get_name(c, 'PATCH', .false., patch)
+    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+    if (side > 0) side = side_codes(side)
+    if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
+        'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
+    if (has_param(c, 'PATCH') .and. has_flag(c, 'GENERATE')) call card_error(c, &
+        'GENERATE cannot be combined with PATCH=')
+    if (c%bad) return
+
+    if (has_param(c, 'PATCH')) then
+      call no_data(c, rd)
+      k = set_index(d, name, kind, c%where)
+      if (k == 0) return
+      if (d%sets(k)%side /= SIDE_NONE) then
+        call card_error(c, 'set '//trim(name)//' already has a PATCH=, SIDE= definition')
+        return
+      end if
+      d%sets(k)%patch = patch
+      d%sets(k)%side = side
+    else if (has_flag(c, 'GENERATE')) then
+      call read_set_generate(c, rd, d, name, kind)
+    else
+      call read_set_list(c, rd, d, name, kind)
+    end if
+  end subroutine read_set
+
+  !> Data of *NSET/*ELSET, GENERATE: lines "first, last[, step]".
+  subroutine read_set_generate(c, rd, d, name, kind)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: expect, w
+    type(token_t), allocatable :: toks(:)
+    integer, allocatable :: ids(:)
+    integer :: i, n, v(3), k
+    integer(i8) :: count
+
+    expect = c%label//', GENERATE: expected "first, last, step" (integers)'
+    if (.not. has_data(c, expect)) return
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      call split_values(rd%src%lines(i)%text, toks, n)
+      if (.not. count_ok(n, 2, 3, expect, w)) return
+      v(3) = 1
+      do k = 1, n
+        if (.not. tok_int(toks, k, expect, w, v(k))) return
+      end do
+      if (v(3) <= 0) then
+        call input_error(w, c%label//', GENERATE: step must be > 0, found '//str(v(3)))
+        return
+      end if
+      if (v(2) < v(1)) then
+        call input_error(w, c%label//', GENERATE: last = '//str(v(2))//' < first = '// &
+            str(v(1))//' (expected first <= last)')
+        return
+      end if
+      if (v(1) <= 0) then
+        call input_error(w, c%label//', GENERATE: ids must be > 0, found '//str(v(1)))
+        return
+      end if
+      count = (int(v(2), i8) - v(1))/v(3) + 1
+      if (count > max_generated) then
+        call input_error(w, c%label//', GENERATE: too many ids ('//str(count)// &
+            '; at most '//str(max_generated)//')')
+        return
+      end if
+      ids = [(v(1) + k*v(3), k = 0, int(count) - 1)]
+      call add_to_set(d, name, kind, c%where, ids)
+    end do
+  end subroutine read_set_generate
+
+  !> Data of *NSET/*ELSET as a list: ids and set names, any number per line.
+  subroutine read_set_list(c, rd, d, name, kind)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: expect, w
+    type(token_t), allocatable :: toks(:)
+    integer, allocatable :: ids(:)
+    character(len=str_len) :: ref
+    integer :: i, n, k, nid, id, s
+    logical :: is_int
+
+    expect = c%label//': expected ids or set names'
+    if (.not. has_data(c, expect)) return
+    s = set_index(d, name, kind, c%where)
+    if (s == 0) return
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      call split_values(rd%src%lines(i)%text, toks, n)
+      allocate(ids(n))
+      nid = 0
+      do k = 1, n
+        call parse_int(toks(k)%s, id, is_int)
+        if (is_int) then
+          if (id <= 0) then
+            call input_error(w, expect//', found id '//str(id)//' in field '//str(k)// &
+                ' (ids are > 0)')
+            return
+          end if
+          nid = nid + 1
+          ids(nid) = id
+        else
+          if (.not. tok_name(toks, k, expect, w, ref)) return
+          call add_ref(d%sets(s), ref, w)
+        end if
+      end do
+      call add_to_set(d, name, kind, c%where, ids(1:nid))
+      deallocate(ids)
+    end do
+  end subroutine read_set_list
+
+  !> *SURFACE, NAME=name with PATCH=, SIDE= or TYPE=ELEMENT (data "element or elset, Sk").
+  subroutine read_surface(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    type(surface_in_t) :: s
+    integer :: kind, side, k
+
+    call check_params(c, 'NAME|TYPE|PATCH|SIDE', '')
+    call get_name(c, 'NAME', .true., s%name)
+    call get_choice(c, 'TYPE', 'ELEMENT', kind)
+    call get_name(c, 'PATCH', .false., s%patch)
+    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+    if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
+        'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
+    if (has_param(c, 'PATCH') .and. has_param(c, 'TYPE')) call card_error(c, &
+        'give either PATCH=, SIDE= or TYPE=ELEMENT, not both')
+    do k = 1, d%n_surfaces
+      if (d%surfaces(k)%name == s%name .and. len_trim(s%name) > 0) call card_error(c, &
+          'duplicate surface name '//trim(s%name)//' (first defined at '// &
+          trim(d%surfaces(k)%where)//')')
+    end do
+    if (c%bad) return
+    s%where = c%where
+    if (has_param(c, 'PATCH')) then
+      s%kind = SURF_PATCH
+      s%side = side_codes(side)
+      allocate(s%elem(0), s%face(0), s%elset(0), s%entry_where(0))
+      call no_data(c, rd)
+    else
+      s%kind = SURF_ELEMENT
+      if (.not. read_surface_faces(c, rd, s)) return
+    end if
+    call grow_surfaces(d%surfaces, d%n_surfaces + 1)
+    d%n_surfaces = d%n_surfaces + 1
+    d%surfaces(d%n_surfaces) = s
+  end subroutine read_surface
+
+  !> Data of *SURFACE, TYPE=ELEMENT: lines "element id or elset name, S1..S4".
+  logical function read_surface_faces(c, rd, s) result(ok)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(surface_in_t), intent(inout) :: s
+    character(len=*), parameter :: expect = &
+        '*SURFACE: expected "element id or element set, face S1..S4"'
+    character(len=:), allocatable :: w, face
+    type(token_t), allocatable :: toks(:)
+    integer :: i, n, m, id
+    logical :: is_int
+
+    ok = .false.
+    if (.not. has_data(c, expect)) return
+    m = c%last - c%first + 1
+    allocate(s%elem(m), s%face(m), s%elset(m), s%entry_where(m))
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      n = i - c%first + 1
+      call split_values(rd%src%lines(i)%text, toks, m)
+      if (.not. count_ok(m, 2, 2, expect, w)) return
+      call parse_int(toks(1)%s, id, is_int)
+      s%elem(n) = 0
+      s%elset(n) = ''
+      if (is_int) then
+        if (id <= 0) then
+          call input_error(w, expect//', found element id '//str(id)//' (ids are > 0)')
+          return
+        end if
+        s%elem(n) = id
+      else
+        if (.not. tok_name(toks, 1, expect, w, s%elset(n))) return
+      end if
+      face = upper(toks(2)%s)
+      select case (face)
+      case ('S1', 'S2', 'S3', 'S4')
+        s%face(n) = iachar(face(2:2)) - iachar('0')
+      case default
+        call input_error(w, '*SURFACE: unknown face "'//shown(toks(2)%s)// &
+            '" in field 2 (expected S1, S2, S3 or S4)')
+        return
+      end select
+      s%entry_where(n) = w
+    end do
+    ok = .true.
+  end function read_surface_faces
+
+  !> Index of set `name` (created empty when new). 0, with a message, when the name is
+  !! already used by a set of the other kind.
+  integer function set_index(d, name, kind, where) result(k)
+    type(deck_t), intent(inout) :: d
+    character(len=*), intent(in) :: name, where
+    integer, intent(in) :: kind
+    integer :: j
+    do j = 1, d%n_sets
+      if (d%sets(j)%name == name) then
+        k = j
+        if (d%sets(j)%kind /= kind) then
+          call input_error(where, '*'//trim(merge('NSET ', 'ELSET', kind == SET_NODE))// &
+              ': name '//trim(name)//' is already used by an '// &
+              trim(merge('ELSET', 'NSET ', kind == SET_NODE))//' (first defined at '// &
+              trim(d%sets(j)%where)//')')
+          k = 0
+        end if
+        return
+      end if
+    end do
+    call grow_sets(d%sets, d%n_sets + 1)
+    d%n_sets = d%n_sets + 1
+    k = d%n_sets
+    d%sets(k)%name = name
+    d%sets(k)%kind = kind
+    d%sets(k)%where = where
+    allocate(d%sets(k)%ids(0), d%sets(k)%refs(0), d%sets(k)%ref_where(0))
+  end function set_index
+
+  !> Adds `ids` to set `name` of `kind` (created when new).
+  subroutine add_to_set(d, name, kind, where, ids)
+    type(deck_t), intent(inout) :: d
+    character(len=*), intent(in) :: name, where
+    integer, intent(in) :: kind
+    integer, intent(in) :: ids(:)
+    integer :: k
+    k = set_index(d, name, kind, where)
+    if (k == 0) return
+    if (size(ids) > 0) d%sets(k)%ids = [d%sets(k)%ids, ids]
+  end subroutine add_to_set
+
+  !> Adds a reference to another set (with its location) to `s`.
+  subroutine add_ref(s, ref, where)
+    type(set_in_t), intent(inout) :: s
+    character(len=*), intent(in) :: ref, where
+    character(len=str_len), allocatable :: r(:)
+    character(len=where_len), allocatable :: w(:)
+    integer :: n
+    n = size(s%refs)
+    allocate(r(n + 1), w(n + 1))
+    r(1:n) = s%refs
+    w(1:n) = s%ref_where
+    r(n + 1) = ref
+    w(n + 1) = where
+    call move_alloc(r, s%refs)
+    call move_alloc(w, s%ref_where)
+  end subroutine add_ref
+
+end module ictus_io_deck_model

@@ -1,0 +1,225 @@
+!> Readers of the NURBS patch cards (deck-format.md, iga.md): *PATCH opens a patch, the
+!! *KNOTS and *CONTROL POINTS that follow it fill it in, and *ELEVATE / *REFINE record a
+!! refinement of a named patch.
+!!
+!! The knot vectors and control points are checked here, card by card (length, order,
+!! openness, multiplicities, weights); that every patch got both, and that *ELEVATE / *REFINE
+!! name a known patch, is checked over the whole deck by `check_deck` (ictus_io_deck_checks).
+!! `app/build_model` applies the refinements in deck order.
+module ictus_io_deck_patch
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_errors, only: input_error
+  use ictus_core_strings, only: str
+  use ictus_io_deck_lexer, only: line_where
+  use ictus_io_deck_types, only: deck_t, patch_in_t, patch_op_in_t, OP_ELEVATE, OP_REFINE
+  use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
+      get_name, get_ints, no_data, stream_reals
+  use ictus_io_deck_grow, only: grow_patches, grow_patch_ops
+  implicit none
+  private
+  public :: read_patch, read_knots, read_control_points, read_patch_op
+
+contains
+
+  !> *PATCH, NAME=, MATERIAL=, DEGREE=p1,p2, SIZE=n1,n2: opens a patch for *KNOTS and
+  !! *CONTROL POINTS.
+  subroutine read_patch(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    type(patch_in_t) :: p
+    integer :: k
+
+    rd%patch = -1
+    call check_params(c, 'NAME|MATERIAL|DEGREE|SIZE', '')
+    call get_name(c, 'NAME', .true., p%name)
+    call get_name(c, 'MATERIAL', .true., p%material)
+    if (get_ints(c, 'DEGREE', 2, 'p1,p2', p%degree, required=.true.)) then
+      if (any(p%degree < 1)) call card_error(c, 'DEGREE='//str(p%degree(1))//','// &
+          str(p%degree(2))//' must be >= 1 in both directions')
+    end if
+    if (get_ints(c, 'SIZE', 2, 'n1,n2 control points per direction', p%size, &
+        required=.true.)) then
+      if (.not. c%bad .and. any(p%size < p%degree + 1)) then
+        call card_error(c, 'SIZE='//str(p%size(1))//','//str(p%size(2))// &
+            ' must be at least DEGREE+1 in each direction')
+      else if (int(max(p%size(1), 1), i8)*int(max(p%size(2), 1), i8) > max_generated) then
+        call card_error(c, 'SIZE='//str(p%size(1))//','//str(p%size(2))// &
+            ' is too large (at most '//str(max_generated)//' control points)')
+      end if
+    end if
+    call no_data(c, rd)
+    do k = 1, d%n_patches
+      if (d%patches(k)%name == p%name .and. len_trim(p%name) > 0) then
+        call card_error(c, 'duplicate patch name '//trim(p%name)//' (first defined at '// &
+            trim(d%patches(k)%where)//')')
+      end if
+    end do
+    if (c%bad) return
+    p%where = c%where
+    call grow_patches(d%patches, d%n_patches + 1)
+    d%n_patches = d%n_patches + 1
+    d%patches(d%n_patches) = p
+    rd%patch = d%n_patches
+  end subroutine read_patch
+
+  !> True when a patch sub-card may be read now; reports it otherwise.
+  logical function patch_context(c, rd) result(ok)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    ok = rd%patch > 0
+    if (rd%patch == 0) call card_error(c, 'no preceding *PATCH card (expected *PATCH, '// &
+        'NAME=..., DEGREE=..., SIZE=... before it)')
+  end function patch_context
+
+  !> *KNOTS, DIRECTION=1|2: the knot vector (stream of numbers over any number of lines).
+  subroutine read_knots(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    real(dp), allocatable :: u(:)
+    integer, allocatable :: tline(:)
+    integer :: dir(1), n, p
+
+    call check_params(c, 'DIRECTION', '')
+    if (get_ints(c, 'DIRECTION', 1, '1 or 2', dir, required=.true.)) then
+      if (dir(1) /= 1 .and. dir(1) /= 2) call card_error(c, 'bad value DIRECTION='// &
+          str(dir(1))//' (expected 1 or 2)')
+    end if
+    if (.not. patch_context(c, rd) .or. c%bad) return
+    associate (pa => d%patches(rd%patch))
+      if (pa%has_knots(dir(1))) then
+        call card_error(c, 'second *KNOTS, DIRECTION='//str(dir(1))//' for patch '// &
+            trim(pa%name))
+        return
+      end if
+      pa%has_knots(dir(1)) = .true.
+      n = pa%size(dir(1))
+      p = pa%degree(dir(1))
+      if (.not. stream_reals(c, rd, '*KNOTS: expected the knot vector (numbers)', u, tline)) &
+          return
+      if (.not. knots_ok(c, rd, u, tline, n, p, dir(1))) return
+      if (dir(1) == 1) then
+        pa%knots1 = u
+      else
+        pa%knots2 = u
+      end if
+    end associate
+  end subroutine read_knots
+
+  !> Checks a knot vector: length n+p+1, non-decreasing, open, interior multiplicity <= p.
+  logical function knots_ok(c, rd, u, tline, n, p, dir) result(ok)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(in) :: rd
+    real(dp), intent(in) :: u(:)
+    integer, intent(in) :: tline(:), n, p, dir
+    integer :: k, m, mult
+    character(len=:), allocatable :: dd
+
+    ok = .false.
+    dd = ', DIRECTION='//str(dir)
+    if (size(u) /= n + p + 1) then
+      call card_error(c, 'knot vector of length '//str(size(u))//dd//': expected n + p + 1 = '// &
+          str(n + p + 1)//' knots (SIZE n='//str(n)//', DEGREE p='//str(p)//')')
+      return
+    end if
+    do k = 2, size(u)
+      if (u(k) < u(k - 1)) then
+        call input_error(line_where(rd%src, tline(k)), '*KNOTS: decreasing knot vector'//dd// &
+            ': knot '//str(k)//' = '//str(u(k))//' < knot '//str(k - 1)//' = '//str(u(k - 1))// &
+            ' (expected non-decreasing knots)')
+        return
+      end if
+    end do
+    m = size(u)
+    if (any(u(1:p + 1) /= u(1)) .or. any(u(m - p:m) /= u(m))) then
+      call card_error(c, 'knot vector not open'//dd//': the first and the last p + 1 = '// &
+          str(p + 1)//' knots must be equal')
+      return
+    end if
+    if (.not. (u(m) > u(1))) then
+      call card_error(c, 'knot vector has zero length'//dd//' (first knot = last knot)')
+      return
+    end if
+    mult = 1
+    do k = p + 3, m - p - 1
+      if (u(k) == u(k - 1)) then
+        mult = mult + 1
+      else
+        mult = 1
+      end if
+      if (mult > p) then
+        call input_error(line_where(rd%src, tline(k)), '*KNOTS: interior knot '// &
+            str(u(k))//dd//' repeated more than p = '//str(p)//' times')
+        return
+      end if
+    end do
+    ok = .true.
+  end function knots_ok
+
+  !> *CONTROL POINTS: n1*n2 records "x, y, w" (stream), direction-1 index fastest; w > 0.
+  subroutine read_control_points(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    real(dp), allocatable :: v(:)
+    integer, allocatable :: tline(:)
+    integer :: ncp, k
+
+    call check_params(c, '', '')
+    if (.not. patch_context(c, rd) .or. c%bad) return
+    associate (pa => d%patches(rd%patch))
+      if (pa%has_cp) then
+        call card_error(c, 'second *CONTROL POINTS for patch '//trim(pa%name))
+        return
+      end if
+      pa%has_cp = .true.
+      if (.not. stream_reals(c, rd, '*CONTROL POINTS: expected "x, y, w" records (numbers)', &
+          v, tline)) return
+      ncp = pa%size(1)*pa%size(2)
+      if (size(v) /= 3*ncp) then
+        call card_error(c, 'patch '//trim(pa%name)//' has SIZE='//str(pa%size(1))//','// &
+            str(pa%size(2))//': expected '//str(ncp)//' control points "x, y, w" = '// &
+            str(3*ncp)//' numbers, found '//str(size(v))//' numbers')
+        return
+      end if
+      pa%cp = reshape(v, [3, ncp])
+      do k = 1, ncp
+        if (.not. (pa%cp(3, k) > 0.0_dp)) then
+          call input_error(line_where(rd%src, tline(3*k)), '*CONTROL POINTS: weight w of '// &
+              'control point '//str(k)//' must be > 0, found '//str(pa%cp(3, k)))
+        end if
+      end do
+    end associate
+  end subroutine read_control_points
+
+  !> *ELEVATE, PATCH=, DEGREE=q1,q2 or *REFINE, PATCH=, SUBDIVIDE=k1,k2 (resolved later).
+  subroutine read_patch_op(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    type(patch_op_in_t) :: op
+    character(len=:), allocatable :: key
+
+    if (c%kw%name == 'ELEVATE') then
+      op%kind = OP_ELEVATE
+      key = 'DEGREE'
+    else
+      op%kind = OP_REFINE
+      key = 'SUBDIVIDE'
+    end if
+    call check_params(c, 'PATCH|'//key, '')
+    call get_name(c, 'PATCH', .true., op%patch)
+    if (get_ints(c, key, 2, 'two integers', op%values, required=.true.)) then
+      if (any(op%values < 1)) call card_error(c, key//'='//str(op%values(1))//','// &
+          str(op%values(2))//' must be >= 1 in both directions')
+    end if
+    call no_data(c, rd)
+    if (c%bad) return
+    op%where = c%where
+    call grow_patch_ops(d%patch_ops, d%n_patch_ops + 1)
+    d%n_patch_ops = d%n_patch_ops + 1
+    d%patch_ops(d%n_patch_ops) = op
+  end subroutine read_patch_op
+
+end module ictus_io_deck_patch
