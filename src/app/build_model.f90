@@ -17,7 +17,8 @@ module ictus_app_build_model
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   use ictus_materials_material, only: material_make_law
-  use ictus_solver_model, only: model_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
+  use ictus_solver_model, only: model_t, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
+      MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
@@ -84,6 +85,14 @@ contains
         model%mass_solver = MASS_SOLVER_AUTO
       end select
       model%mass_passes = deck%step%mass_passes
+      select case (deck%step%internal_force)
+      case ('ASSEMBLED')
+        model%force_kind = FORCE_ASSEMBLED
+      case ('ELEMENT')
+        model%force_kind = FORCE_ELEMENT
+      case default
+        model%force_kind = FORCE_AUTO
+      end select
       model%sweep_steps = deck%step%sweep_steps
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every

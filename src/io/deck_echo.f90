@@ -308,6 +308,10 @@ contains
     if (.not. d%has_step) return
     sweep = ', SWEEP STEPS=AUTO'
     if (d%step%sweep_steps > 0) sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
+    ! INTERNAL FORCE= only when given: the processed text of a deck without it stays as it was
+    ! (a checkpoint is continued only with the same processed deck)
+    if (d%step%internal_force /= 'AUTO') sweep = sweep//', INTERNAL FORCE='// &
+        trim(d%step%internal_force)
     call put(t, '*STEP')
     select case (d%step%mass_solver)
     case ('CG')

@@ -42,7 +42,8 @@ contains
   end subroutine read_step
 
   !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG|CORRECTOR] [, MASS TOL=tol]
-  !! [, MASS PASSES=k] [, SWEEP STEPS=s|AUTO]: one data line "dt, t_end". MASS TOL is the
+  !! [, MASS PASSES=k] [, SWEEP STEPS=s|AUTO] [, INTERNAL FORCE=AUTO|ASSEMBLED|ELEMENT]: one
+  !! data line "dt, t_end". MASS TOL is the
   !! tolerance of the conjugate gradient, so it needs MASS SOLVER=CG; MASS PASSES counts the
   !! corrector's passes, so it needs MASS SOLVER=CORRECTOR. SWEEP STEPS is the number of
   !! lumped-mass steps per sweep over the stiffness (ictus_solver_sweep); AUTO (0) lets the
@@ -54,12 +55,15 @@ contains
     character(len=*), parameter :: expect = '*DYNAMIC: expected 2 numbers (dt, t_end)'
     character(len=*), parameter :: solvers(5) = [character(len=9) :: 'AUTO', 'KRONECKER', &
         'CHOLESKY', 'CG', 'CORRECTOR']
+    character(len=*), parameter :: forces(3) = [character(len=9) :: 'AUTO', 'ASSEMBLED', &
+        'ELEMENT']
     real(dp) :: v(2), s(1)
     integer :: i, k, np(1)
     logical :: tol_given, passes_given
     character(len=:), allocatable :: text
 
-    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS', 'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS|INTERNAL FORCE', &
+        'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -102,6 +106,8 @@ contains
     end if
     call get_choice(c, 'MASS SOLVER', 'AUTO|KRONECKER|CHOLESKY|CG|CORRECTOR', k)
     if (k > 0) d%step%mass_solver = solvers(k)
+    call get_choice(c, 'INTERNAL FORCE', 'AUTO|ASSEMBLED|ELEMENT', k)
+    if (k > 0) d%step%internal_force = forces(k)
     if (tol_given .and. d%step%mass_solver /= 'CG') call card_error(c, &
         'MASS TOL is the tolerance of the conjugate gradient: add MASS SOLVER=CG (the '// &
         'default MASS SOLVER=AUTO solves exactly)')

@@ -177,6 +177,9 @@ module ictus_io_deck_types
     character(len=16) :: mass_solver = 'AUTO'
     !> Corrector passes of MASS SOLVER=CORRECTOR (MASS PASSES=).
     integer :: mass_passes = 2
+    !> How the internal force is formed (INTERNAL FORCE=): AUTO (the assembled stiffness
+    !! where every law is linear, else the element loop), ASSEMBLED or ELEMENT.
+    character(len=16) :: internal_force = 'AUTO'
     !> Lumped-mass steps per sweep over the stiffness (SWEEP STEPS=); 0 = AUTO (6 steps,
     !! kept where the run measures them faster than single steps).
     integer :: sweep_steps = 0
