@@ -3,7 +3,7 @@
 !! extraction (C^e B = N on every non-empty span).
 program test_bezier
   use ictus_core_kinds, only: dp
-  use ictus_geometry_bspline, only: basis_funs
+  use ictus_test_geometry, only: basis_funs
   use ictus_geometry_bezier, only: bezier_extraction_1d, bernstein, count_spans, &
       bernstein_values, bernstein_d2, de_casteljau, BEZIER_MAX_DEGREE
   use ictus_test_check, only: checker_t
