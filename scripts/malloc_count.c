@@ -1,5 +1,5 @@
 /* Counts the heap allocations of a process (LD_PRELOAD), for the allocation check of
- * scripts/benchmark.py --alloc-check (doc/performance.md):
+ * bench/benchmark.py --alloc-check (doc/performance.md):
  *
  *   cc -O2 -shared -fPIC -o malloc_count.so scripts/malloc_count.c
  *   MALLOC_COUNT_OUT=counts.txt LD_PRELOAD=./malloc_count.so build/bin/ictus deck.inp

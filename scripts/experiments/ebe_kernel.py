@@ -14,7 +14,7 @@ vectors of an element's u and K u in registers otherwise), column by column of t
 triangle with two accumulators.
 
 The mesh is the Q8 square of the benchmark (n x n elements, nodes numbered row by row as
-scripts/benchmark.py writes them), the element matrices are pseudo-random and symmetric (the
+bench/benchmark.py writes them), the element matrices are pseudo-random and symmetric (the
 timing does not depend on the values). The product is checked against a plain loop over the
 stored entries. The program times, best of 5:
   read    a sum over the stored triangles alone (the floor of this layout),
@@ -25,7 +25,7 @@ stored entries. The program times, best of 5:
   gather  the products with u gathered but nothing scattered,
   scatter the products scattered, u not gathered,
 and a STREAM triad over 96 MB. Compare with the K u and K read columns of
-scripts/benchmark.py run in the same session. It takes alloc_stream (src/core/memory.f90:
+bench/benchmark.py run in the same session. It takes alloc_stream (src/core/memory.f90:
 huge pages, as ictus's K and vectors have them) from the core library of an ictus build
 (--build-dir, default build/).
 

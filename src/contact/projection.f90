@@ -47,12 +47,13 @@ module ictus_contact_projection
   !! distance changes are noise. tol ell alone can be below the round-off of f (3e-16 for
   !! 316 segments on a unit side); and near a master (x_s 1e-4 from it) the distance
   !! decrease of a small Newton step (|dt| < 1e-9) is below the round-off of the distance:
-  !! the halvings then cut every such step 32-fold, the iteration crept and could fail
-  !! after max_iter (the point was treated as open).
+  !! without this floor the halvings would cut every such step 32-fold, and the iteration
+  !! could end at max_iter without converging (the point taken as open).
   real(dp), parameter :: roundoff = 8.0_dp*epsilon(1.0_dp)
   !> Segments whose projection project_point remembers for one point: the walks of
-  !! neighbouring candidates cross into the same segments (in the benchmarks a point has 3
-  !! to 4 candidates whose walks project onto 5 to 8 segments, 3 to 4 of them distinct).
+  !! neighbouring candidates cross into the same segments, a few distinct ones per point
+  !! (counts on the benchmark meshes: doc/performance-history.md, "Notes moved out of the
+  !! code"); a point whose walks meet more simply projects again.
   integer, parameter :: memo_size = 16
 
   !> Projections onto single segments done for the current point (segment, t, SEG_*

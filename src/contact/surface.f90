@@ -17,6 +17,7 @@ module ictus_contact_surface
   use ictus_elements_types, only: element_kind_t
   use ictus_elements_library, only: element_kind
   use ictus_geometry_patch, only: patch_t, patch_point, patch_side_elements, patch_elem_ij
+  use ictus_geometry_bezier, only: bernstein_d2, de_casteljau, BEZIER_MAX_DEGREE
   use ictus_core_errors, only: input_error
   implicit none
   private
@@ -25,9 +26,10 @@ module ictus_contact_surface
       patch_side_segments, reverse_segment, MAX_SEG_NODES, segment_curve_t, segment_curve, &
       surface_curves, curve_point, curve_geometry, CURVE_SAMPLES
 
-  !> Largest number of nodes of a segment (degree 15): the size of the fixed local arrays
-  !! of the contact kernels, so that a contact step allocates nothing.
-  integer, parameter :: MAX_SEG_NODES = 16
+  !> Largest number of nodes of a segment (degree 15, the most the Bezier evaluation of
+  !! ictus_geometry_bezier takes): the size of the fixed local arrays of the contact kernels,
+  !! so that a contact step allocates nothing.
+  integer, parameter :: MAX_SEG_NODES = BEZIER_MAX_DEGREE + 1
 
   !> A segment curve keeps its points at t_k = k/CURVE_SAMPLES, k = 0..CURVE_SAMPLES: the
   !! closest-point projection starts at the nearest of them.
@@ -381,7 +383,7 @@ contains
       b2 = t*t
       h0 = b0*c%h(:, 1) + b1*c%h(:, 2) + b2*c%h(:, 3)
     case default
-      call de_casteljau(c, t, h0)
+      call de_casteljau(c%p, c%h, t, h0)
     end select
     if (c%rational) then
       xp = c%x0 + h0(1:2)/h0(3)
@@ -392,8 +394,8 @@ contains
 
   !> Point and first and second derivatives d/dt of a segment curve at t, in one pass: of
   !! the homogeneous curve (A, W) directly for degrees 1 and 2, by de Casteljau's recursion
-  !! (de_casteljau) for higher degrees; then with y = A/W = x - x_0, x' = (A' - W' y)/W,
-  !! x'' = (A'' - 2 W' x' - W'' y)/W.
+  !! (de_casteljau of ictus_geometry_bezier) for higher degrees; then with y = A/W = x - x_0,
+  !! x' = (A' - W' y)/W, x'' = (A'' - 2 W' x' - W'' y)/W.
   !! @param c curve; @param t parameter; @param xp point (2); @param x1, x2 derivatives (2)
   pure subroutine curve_geometry(c, t, xp, x1, x2)
     type(segment_curve_t), intent(in) :: c
@@ -413,7 +415,7 @@ contains
       h1 = 2.0_dp*(u*d1 + t*d2)
       h2 = 2.0_dp*(d2 - d1)
     case default
-      call de_casteljau(c, t, h0, h1, h2)
+      call de_casteljau(c%p, c%h, t, h0, h1, h2)
     end select
     if (c%rational) then
       rw = 1.0_dp/h0(3)
@@ -427,35 +429,6 @@ contains
       x2 = h2(1:2)
     end if
   end subroutine curve_geometry
-
-  !> Homogeneous point h0 (3) of a segment curve of any degree at t and, if asked, its first
-  !! and second derivatives h1, h2 (3), by de Casteljau's recursion: after p - 2 levels the
-  !! three remaining points give h2 = p (p-1) (q_1 - 2 q_2 + q_3), after p - 1 levels the
-  !! two remaining ones h1 = p (q_2 - q_1), after p levels the point.
-  pure subroutine de_casteljau(c, t, h0, h1, h2)
-    type(segment_curve_t), intent(in) :: c
-    real(dp), intent(in) :: t
-    real(dp), intent(out) :: h0(3)
-    real(dp), intent(out), optional :: h1(3), h2(3)
-    real(dp) :: q(3, MAX_SEG_NODES), u
-    integer :: k, i, p
-    p = c%p
-    u = 1.0_dp - t
-    do i = 1, p + 1
-      q(:, i) = c%h(:, i)
-    end do
-    do k = 1, p
-      if (k == p - 1 .and. present(h2)) h2 = real(p*(p - 1), dp)*(q(:, 1) - 2.0_dp*q(:, 2) + &
-          q(:, 3))
-      if (k == p .and. present(h1)) h1 = real(p, dp)*(q(:, 2) - q(:, 1))
-      do i = 1, p + 1 - k
-        q(:, i) = u*q(:, i) + t*q(:, i+1)
-      end do
-    end do
-    h0 = q(:, 1)
-    if (p < 1 .and. present(h1)) h1 = 0.0_dp
-    if (p < 2 .and. present(h2)) h2 = 0.0_dp
-  end subroutine de_casteljau
 
   !> Bounding box (xmin, ymin, xmax, ymax) of segment s for coordinates x, grown by `grow`.
   !! Bezier segments lie in the hull of their Bezier points (positive weights); a quadratic
@@ -512,7 +485,7 @@ contains
     real(dp) :: b(MAX_SEG_NODES), db(MAX_SEG_NODES), ddb(MAX_SEG_NODES), n0, n1, n2
     real(dp) :: ww, w1, w2
     integer :: a, j
-    call bernstein2(p, t, b, db, ddb)
+    call bernstein_d2(p, t, b, db, ddb)
     ww = 0.0_dp
     w1 = 0.0_dp
     w2 = 0.0_dp
@@ -538,51 +511,6 @@ contains
       ddr(a) = (ddr(a) - 2.0_dp*dr(a)*w1 - r(a)*w2)/ww
     end do
   end subroutine rational_bezier
-
-  !> Bernstein polynomials of degree p on [0, 1] with first and second derivatives:
-  !! B_i' = p (B_{i-1,p-1} - B_{i,p-1}), B_i'' = p (p-1) (B_{i-2,p-2} - 2 B_{i-1,p-2} + B_{i,p-2}).
-  pure subroutine bernstein2(p, t, b, db, ddb)
-    integer, intent(in) :: p
-    real(dp), intent(in) :: t
-    real(dp), intent(out) :: b(p+1), db(p+1), ddb(p+1)
-    real(dp) :: b1(0:MAX_SEG_NODES), b2(0:MAX_SEG_NODES)
-    integer :: i
-    ! b1: degree p-1 at 1..p (zero padded), b2: degree p-2 at 1..p-1
-    call bernstein_values(p, t, b)
-    b1 = 0.0_dp
-    b2 = 0.0_dp
-    if (p >= 1) call bernstein_values(p - 1, t, b1(1:p))
-    if (p >= 2) call bernstein_values(p - 2, t, b2(1:p-1))
-    do i = 1, p + 1
-      db(i) = real(p, dp)*(b1(i-1) - b1(i))
-      ddb(i) = 0.0_dp
-      if (p >= 2) then
-        ddb(i) = real(p*(p - 1), dp)*(bm(i - 2) - 2.0_dp*bm(i - 1) + bm(i))
-      end if
-    end do
-  contains
-    pure real(dp) function bm(k)
-      integer, intent(in) :: k
-      bm = 0.0_dp
-      if (k >= 1 .and. k <= p - 1) bm = b2(k)
-    end function bm
-  end subroutine bernstein2
-
-  !> Bernstein polynomials of degree q at t, (q+1) values, by de Casteljau's recursion.
-  pure subroutine bernstein_values(q, t, b)
-    integer, intent(in) :: q
-    real(dp), intent(in) :: t
-    real(dp), intent(out) :: b(q+1)
-    integer :: k, i
-    b = 0.0_dp
-    b(1) = 1.0_dp
-    do k = 1, q
-      do i = k + 1, 2, -1
-        b(i) = (1.0_dp - t)*b(i) + t*b(i-1)
-      end do
-      b(1) = (1.0_dp - t)*b(1)
-    end do
-  end subroutine bernstein_values
 
   !> Global nodes of face `face` of an element in order along the face (corner k, [midside],
   !! corner k+1; element_kind_t%face): a counter-clockwise element's face runs

@@ -1,14 +1,15 @@
 !> B-spline basis functions: knot span search, values and derivatives.
 !!
-!! Piegl & Tiller, The NURBS Book, 2nd ed., algorithms A2.1-A2.3, written for 1-based knot
-!! vectors `knots(1:n+p+1)` with `n` basis functions of degree `p`. The span index `i` returned
-!! by `find_span` satisfies knots(i) <= u < knots(i+1) and p+1 <= i <= n; the non-zero basis
-!! functions on that span are N_{i-p}, ..., N_i (1-based function numbers).
+!! Piegl & Tiller, The NURBS Book, 2nd ed., algorithms A2.1 and A2.3, written for 1-based
+!! knot vectors `knots(1:n+p+1)` with `n` basis functions of degree `p`. The span index `i`
+!! returned by `find_span` satisfies knots(i) <= u < knots(i+1) and p+1 <= i <= n; the
+!! non-zero basis functions on that span are N_{i-p}, ..., N_i (1-based function numbers).
+!! A2.2, the values alone, is a reference of the tests (tests/support/geometry.f90).
 module ictus_geometry_bspline
   use ictus_core_kinds, only: dp
   implicit none
   private
-  public :: find_span, basis_funs, ders_basis_funs
+  public :: find_span, ders_basis_funs
 
 contains
 
@@ -45,30 +46,6 @@ contains
     end do
     span = mid
   end function find_span
-
-  !> The p+1 non-zero basis functions at `u` on span `i` (A2.2): nb(0:p) = N_{i-p..i,p}(u).
-  !! @param i span from find_span; @param u parameter; @param p degree;
-  !! @param knots knot vector; @param nb values (0:p)
-  pure subroutine basis_funs(i, u, p, knots, nb)
-    integer, intent(in) :: i, p
-    real(dp), intent(in) :: u
-    real(dp), intent(in) :: knots(:)
-    real(dp), intent(out) :: nb(0:p)
-    real(dp) :: left(p), right(p), saved, temp
-    integer :: j, r
-    nb(0) = 1.0_dp
-    do j = 1, p
-      left(j) = u - knots(i+1-j)
-      right(j) = knots(i+j) - u
-      saved = 0.0_dp
-      do r = 0, j - 1
-        temp = nb(r)/(right(r+1) + left(j-r))
-        nb(r) = saved + right(r+1)*temp
-        saved = left(j-r)*temp
-      end do
-      nb(j) = saved
-    end do
-  end subroutine basis_funs
 
   !> Non-zero basis functions and their derivatives up to order `nd` (A2.3):
   !! ders(k, j) = d^k N_{i-p+j,p} / du^k at `u`, k = 0..nd, j = 0..p (zero for k > p).

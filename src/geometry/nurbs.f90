@@ -8,7 +8,7 @@ module ictus_geometry_nurbs
   use ictus_geometry_bspline, only: find_span, ders_basis_funs
   implicit none
   private
-  public :: nurbs_curve_basis, nurbs_curve_point, nurbs_surface_basis, nurbs_surface_point
+  public :: nurbs_curve_basis, nurbs_surface_basis, nurbs_surface_point
 
 contains
 
@@ -37,36 +37,6 @@ contains
           + 2.0_dp*ders(0, k)*dw**2/ww**3)
     end do
   end subroutine nurbs_curve_basis
-
-  !> Point of a NURBS curve and optionally its first and second derivatives.
-  !! @param n number of control points; @param p degree; @param knots (n+p+1);
-  !! @param cp control points (3, n) = (x, y, w); @param u parameter; @param x point (2);
-  !! @param dx dx/du (2), optional; @param ddx d2x/du2 (2), optional
-  pure subroutine nurbs_curve_point(n, p, knots, cp, u, x, dx, ddx)
-    integer, intent(in) :: n, p
-    real(dp), intent(in) :: knots(:), cp(:,:), u
-    real(dp), intent(out) :: x(2)
-    real(dp), intent(out), optional :: dx(2), ddx(2)
-    real(dp) :: r(0:p), dr(0:p), ddr(0:p)
-    integer :: span, k
-    call nurbs_curve_basis(n, p, knots, cp(3, 1:n), u, span, r, dr, ddr)
-    x = 0.0_dp
-    do k = 0, p
-      x = x + r(k)*cp(1:2, span-p+k)
-    end do
-    if (present(dx)) then
-      dx = 0.0_dp
-      do k = 0, p
-        dx = dx + dr(k)*cp(1:2, span-p+k)
-      end do
-    end if
-    if (present(ddx)) then
-      ddx = 0.0_dp
-      do k = 0, p
-        ddx = ddx + ddr(k)*cp(1:2, span-p+k)
-      end do
-    end if
-  end subroutine nurbs_curve_point
 
   !> Rational basis of a NURBS surface at (u, v) with first derivatives.
   !! The (p1+1)(p2+1) possibly non-zero functions are returned, local index

@@ -11,9 +11,8 @@
 !! s sample parameters of a span depend only on the span of direction 1 (N2 likewise), so
 !! they are kept per patch and span, (p+1) x s numbers per span and direction, and the sample
 !! values are formed when a field is written. This keeps the memory of the samples
-!! negligible: one row of basis values per sample point (the way this module first stored
-!! them) is 12 (p+1)^2 + 20 bytes a point, 3.2 KB per p = 2 element and 10 KB per p = 3
-!! element, several times the element's share of the stiffness.
+!! negligible: a row of basis values and indices per sample point would take several times
+!! the element's share of the stiffness (doc/iga.md §7).
 !! The same formulas map the reference control-point coordinates to the sample points and
 !! control-point displacements to the displacement at the sample points.
 !!

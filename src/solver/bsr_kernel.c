@@ -4,25 +4,24 @@
  *
  * K is stored in block CSR with 2x2 blocks, val(2, 2, nnz) in Fortran order, and is read
  * once per product from memory. With the core busy gathering x and multiplying, the hardware
- * prefetchers keep too little of the block stream in flight: the product ran at 0.61-0.70 of
- * the rate at which a loop that only reads the same arrays streams them. Asking for the
- * block PREFETCH_BYTES ahead, once per 64-byte pair of blocks, brings it to about that rate
- * (doc/performance.md §3.1, where the distance was measured).
+ * prefetchers keep too little of the block stream in flight. So the loop asks for the block
+ * PREFETCH_BYTES ahead, once per 64-byte pair of blocks, which lets the product stream K at
+ * about the rate of a loop that only reads the same arrays (see doc/performance.md §3.1).
  *
- * The arithmetic is that of the Fortran kernel it replaced, operation for operation: each
- * block's two products are added first, the blocks of a row go alternately into two partial
- * sums (odd and even positions), added at the end. Compiled without contraction into fused
- * multiply-adds (ICTUS_DETERMINISTIC, -ffp-contract=off, as the Fortran sources), so the
- * bits are those of that kernel and, the columns being sorted by global index, do not depend
- * on the partition. tests/unit/solver/test_sparse.f90 checks both.
+ * The arithmetic is the order that bsr_matvec (sparse.f90) documents, operation for
+ * operation: each block's two products are added first, the blocks of a row go alternately
+ * into two partial sums (odd and even positions), added at the end. Compiled without
+ * contraction into fused multiply-adds (ICTUS_DETERMINISTIC, -ffp-contract=off, as the
+ * Fortran sources), so the bits are fixed by that order and, the columns being sorted by
+ * global index, do not depend on the partition. tests/unit/solver/test_sparse.f90 checks
+ * both.
  *
  * Indices are Fortran's: row_ptr(n + 1) and col(*) are 1-based.
  */
 #include <stdint.h>
 
-/* How far ahead of the current block the stream is prefetched (bytes). On the Zen 5 host
- * 6-12 KiB are within 3 % of each other, 4 and 16 KiB about 5 % slower, no prefetch
- * 1.3-1.4 x slower on meshes beyond the caches and the same in them. */
+/* How far ahead of the current block the stream is prefetched (bytes); the distance and the
+ * others tried: doc/performance.md §3.1. */
 enum { PREFETCH_BYTES = 8192 };
 
 void ictus_bsr_matvec(int n, const int *restrict row_ptr, const int *restrict col,
@@ -69,9 +68,9 @@ void ictus_bsr_matvec(int n, const int *restrict row_ptr, const int *restrict co
  * matrix's upper triangle mirrored), so a row's blocks left of the diagonal are the transposes
  * of blocks above it, and ictus_bsr_symv adds their terms to y_j as it passes row i < j, in
  * the order of i, before row j itself starts from the sum so far. It reads about half the
- * bytes, and beyond the caches takes 0.6-0.7 of the time of the full product
- * (doc/performance.md §3.3). tests/unit/solver/test_sparse.f90 checks that the two agree
- * bit for bit and the order of the sum.
+ * bytes of the full product (timings: doc/performance.md §3.3). The unit test
+ * tests/unit/solver/test_sparse.f90 checks that the two agree bit for bit and the order of
+ * the sum.
  */
 typedef double v2d __attribute__((vector_size(16)));
 

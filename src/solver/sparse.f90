@@ -256,8 +256,8 @@ contains
   !! function of the row, whose columns are sorted by global index, so the bits do not
   !! depend on the partition. `fused_lumped_step` sums in the same order. The row loop is
   !! `ictus_bsr_matvec` (bsr_kernel.c): the same operations, plus a software prefetch of the
-  !! block stream, which Fortran cannot express (1.3-1.4 x faster beyond the caches,
-  !! doc/performance.md §3.1).
+  !! block stream, which Fortran cannot express (it keeps the stream in flight beyond the
+  !! caches; see doc/performance.md §3.1).
   subroutine bsr_matvec(n, row_ptr, col, val, x, y)
     integer, intent(in) :: n
     integer, intent(in) :: row_ptr(n + 1), col(*)

@@ -20,8 +20,8 @@ contains
   !! quotient comes from the Krylov space span{x, M^-1 K x, ..., (M^-1 K)^k x}; Lanczos (with
   !! the M inner product, in which M^-1 K is symmetric) finds the largest Ritz value of that
   !! same space, which is never below the power iteration's estimate and converges much faster
-  !! when the top of the spectrum is clustered (a 1D chain: ~3000 power iterations, < 100
-  !! Lanczos steps). Both approach omega_max^2 from below. Without re-orthogonalisation,
+  !! when the top of the spectrum is clustered (a 1D chain; doc/theory.md §7). Both approach
+  !! omega_max^2 from below. Without re-orthogonalisation,
   !! rounding only adds copies of converged Ritz values, never a larger one.
   !! The start vector is a fixed pseudo-random field of the global node indices and all sums
   !! are reproducible, so the result is the same bits on any number of ranks. Stops when the

@@ -1,7 +1,8 @@
 !> Unit tests of ictus_geometry_bspline: FindSpan, basis values and derivatives.
 program test_bspline
   use ictus_core_kinds, only: dp
-  use ictus_geometry_bspline, only: find_span, basis_funs, ders_basis_funs
+  use ictus_geometry_bspline, only: find_span, ders_basis_funs
+  use ictus_test_geometry, only: basis_funs
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t

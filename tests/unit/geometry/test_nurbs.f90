@@ -2,8 +2,8 @@
 !! rational basis properties and derivatives, surface derivatives.
 program test_nurbs
   use ictus_core_kinds, only: dp, pi
-  use ictus_geometry_nurbs, only: nurbs_curve_basis, nurbs_curve_point, &
-      nurbs_surface_basis, nurbs_surface_point
+  use ictus_geometry_nurbs, only: nurbs_curve_basis, nurbs_surface_basis, nurbs_surface_point
+  use ictus_test_geometry, only: nurbs_curve_point
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t

@@ -2,7 +2,7 @@
 !! degree elevation leave curves and the half-disc patch unchanged.
 program test_refine
   use ictus_core_kinds, only: dp, pi
-  use ictus_geometry_nurbs, only: nurbs_curve_point
+  use ictus_test_geometry, only: nurbs_curve_point
   use ictus_geometry_refine, only: refine_knot_vector, degree_elevate_curve
   use ictus_geometry_patch, only: patch_t, patch_elevate, patch_refine, patch_point
   use ictus_test_check, only: checker_t

@@ -6,7 +6,8 @@ program test_lumping
   use ictus_elements_library, only: etype_name, etype_nen
   use ictus_elements_lagrange, only: lagrange_shape_data
   use ictus_elements_solid2d, only: solid2d_mass
-  use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8, check_positive
+  use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
+  use ictus_test_mass, only: check_positive
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t

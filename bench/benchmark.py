@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The performance benchmark of ictus (doc/performance.md).
 
-    scripts/benchmark.py [--quick] [--sizes 1e4,1e5,1e6] [--no-build] [--build-dir DIR]
+    bench/benchmark.py [--quick] [--sizes 1e4,1e5,1e6] [--no-build] [--build-dir DIR]
                          [--work DIR] [--repeat R] [--steps N] [--no-mpi] [--cases LIST]
 
 Builds Release (scripts/setup.sh Release, unless --no-build), generates decks of growing size
@@ -39,6 +39,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+SCRIPTS = os.path.join(ROOT, "scripts")
 E, NU, RHO = 1000.0, 0.3, 1.0
 CASES = ["q8", "q8-consistent", "q8-contact", "iga", "iga-consistent", "iga-corrector",
          "iga-contact"]
@@ -414,7 +415,7 @@ def loadavg():
 def build(args):
     env = dict(os.environ, BUILD_DIR=args.build_dir)
     print(f"benchmark: building Release in {args.build_dir} (scripts/setup.sh Release)", flush=True)
-    subprocess.run(["bash", os.path.join(HERE, "setup.sh"), "Release"], check=True, env=env)
+    subprocess.run(["bash", os.path.join(SCRIPTS, "setup.sh"), "Release"], check=True, env=env)
 
 
 def build_type(build_dir):
@@ -543,7 +544,7 @@ def alloc_check(args, work, cases, n1=100, n2=1000):
         return
     so = os.path.join(work, "malloc_count.so")
     subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", so,
-                    os.path.join(HERE, "malloc_count.c")], check=True)
+                    os.path.join(SCRIPTS, "malloc_count.c")], check=True)
     ictus = os.path.join(args.build_dir, "bin", "ictus")
     print()
     print(f"allocations of the ictus process (malloc + calloc + realloc; LD_PRELOAD "

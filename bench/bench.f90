@@ -13,7 +13,7 @@
 !! bandwidth with a STREAM triad after each set of timings. The whole set is taken R times
 !! (default 3) and each figure, the triad's too, is the median of its R values (the machine is
 !! shared).
-!! Output: one line of key=value pairs starting with BENCH (read by scripts/benchmark.py);
+!! Output: one line of key=value pairs starting with BENCH (read by bench/benchmark.py);
 !! times are seconds per step, mass_iter the mean conjugate-gradient iterations per
 !! consistent-mass solve (0 for a lumped mass), mass_solver the consistent-mass solver taken
 !! (MASS_SOLVER_*: 2 Cholesky, 4 Kronecker, ...; 0 for a lumped mass), sweep the steps per
