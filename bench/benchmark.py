@@ -208,6 +208,8 @@ def row(case, ranks, d):
             f"{ns_el(d, 't_kmv'):.1f}",
             f"{ns_el(d, 't_kstep'):.1f}" if d.get("t_kstep", 0) > 0 else "-",
             f"{ns_el(d, 't_kread'):.1f}" if d.get("t_kread", 0) > 0 else "-",
+            f"{ns_el(d, 't_elem'):.1f}" if d.get("t_elem", 0) > 0 else "-",
+            f"{d['t_elem'] / d['t_kmv']:.1f}" if d.get("t_elem", 0) > 0 else "-",
             f"{ns_el(d, 't_contact'):.2f}" if cp else "-",
             f"{ns_el(d, 't_mass'):.1f}", f"{ns_el(d, 't_update'):.1f}",
             f"{gbs:.1f}", f"{stream:.1f}", f"{gbs / stream:.2f}",
@@ -231,7 +233,7 @@ def planned(d):
 
 
 HEAD = ["case", "elements", "dofs", "steps", "step", "per pass", "1-step", "swept", "K u",
-        "K u step", "K read", "contact", "mass", "update",
+        "K u step", "K read", "elem f_int", "elem/K u", "contact", "mass", "update",
         "K u GB/s", "STREAM GB/s", "K u/STREAM", "K read/K u", "step/K u", "mass/K u",
         "it/solve", "contact ns/point"]
 
