@@ -59,9 +59,11 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
 # environment variables of ictus itself worth showing in a row's name (ictus-job.sh's own
 # ICTUS, ICTUS_LAUNCH, ICTUS_WALL and ICTUS_RESUBMIT are not read by ictus)
 SHOWN_ENV = ("ICTUS_MEMORY_LIMIT_MB",)
-# verification cases that take long, skipped by --quick: verify/parallel runs 20 decks on
-# 1-4 ranks (about 130 runs, 100 s per binary on 2 cores, 40 % of the whole set)
+# verification cases that take long, skipped by --quick: verify/parallel runs 19 decks on
+# 1-4 ranks (about 95 runs, 95 s per binary on 2 cores: with --jobs 2 the set takes 112 s
+# instead of 255 s)
 SLOW_CASES = ("parallel",)
+COMPARED = []  # (results file, datasets) of every pair compared
 
 # The shim logs an "S" line (rank 0, before the run: key, start time, ranks, folder, ictus
 # variables, arguments) and an "E" line per rank after it (key, exit status, end time). Every
@@ -298,6 +300,7 @@ def _compare_file(name, f, work_o, work_n, ignore, details):
         details.append(f"{name}: {f} only in {'old' if os.path.exists(a) else 'new'}")
         return f"DIFFERENT ({f} only on one side)", True
     diffs, counts = compare_results.compare_files(a, b, ignore)
+    COMPARED.append((f, counts["datasets"]))
     if not diffs:
         return "identical", False
     buf = _Buf()
@@ -479,7 +482,9 @@ def main():
     print(f"\nbit_regression: {len(rows)} rows ({n_runs} ictus runs per binary in "
           f"{len(units)} units), {len(rows) - len(bad)} identical"
           + (f" ({timing} compared by exit status only: stopped by --wall-time)" if timing else "")
-          + f", {len(bad)} differ; {elapsed:.0f} s wall time with {a.jobs} job(s)")
+          + f", {len(bad)} differ; {len(COMPARED)} pairs of results files compared "
+          f"({sum(n for _, n in COMPARED)} datasets); runs {elapsed:.0f} s + comparison "
+          f"{time.time() - t_start - elapsed:.0f} s wall time with {a.jobs} job(s)")
     if a.keep or bad:
         print(f"bit_regression: outputs kept in {out}")
     else:

@@ -32,17 +32,19 @@ import h5py
 import numpy as np
 
 # Attributes that legitimately differ between two runs of the same binary on the same deck,
-# ignored wherever they appear (by name, with the reason). None: running every shipped deck
-# and every verification case twice with the same binary, into different folders
-# (bit_regression.py --old X --new X, about 210 runs), gave no differing attribute and no differing
-# dataset. ictus writes no wall-clock time, date, host, build information or path into its
-# results: the root attributes are program, version, format_version, title, analysis, ranks,
-# deck, thickness, omega_max, dt and status (doc/results.md), and `deck` is the processed deck
-# text, without the deck's path. So the list is empty, and every attribute is compared.
+# ignored wherever they appear (by name, with the reason). None: running every shipped deck and
+# every verification case twice with the same binary, into different folders
+# (bit_regression.py --old X --new X, 219 runs each), gave no differing attribute and no
+# differing dataset. ictus writes no wall-clock time, date, host, build information or path
+# into a completed run's results: the root attributes are program, version, format_version,
+# title, analysis, ranks, deck, thickness, omega_max, dt and status (doc/results.md), and `deck`
+# is the processed deck text, without the deck's path. So the list is empty, and every
+# attribute is compared.
 #   `version` ("0.1.0", the CMake project version) is the same in any two builds of the same
 #   version; a comparison across a version bump needs --ignore-attr version.
-#   `status` of a run stopped by --wall-time names the step it stopped at, which depends on the
-#   clock: bit_regression.py compares such runs by exit status only, not by ignoring status.
+#   `status` of a run stopped by --wall-time names the step it stopped at (which depends on the
+#   clock) and the deck and results paths: bit_regression.py compares such runs by exit status
+#   only, not by ignoring status (which would hide a completed run turned into a failed one).
 IGNORED_ATTRS = {
 }
 
