@@ -37,8 +37,8 @@ module ictus_elements_library
   real(dp), parameter :: unit_thickness = 1.0_dp
 
   !> The table of element types, filled at first use; `ntypes` in use.
-  type(element_kind_t), allocatable, save :: table(:)
-  integer, save :: ntypes = 0
+  type(element_kind_t), allocatable :: table(:)
+  integer :: ntypes = 0
 
   !> Results of one call of the element routine.
   type :: element_out_t
