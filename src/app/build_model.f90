@@ -17,7 +17,7 @@ module ictus_app_build_model
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   use ictus_materials_material, only: material_make_law
-  use ictus_solver_model, only: model_t, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
+  use ictus_solver_model, only: model_t, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
       MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
@@ -113,7 +113,7 @@ contains
       model%materials(i)%name = deck%materials(i)%name
       model%materials(i)%density = deck%materials(i)%rho
       call material_make_law('LINEAR ELASTIC', [deck%materials(i)%e, deck%materials(i)%nu], &
-          model%materials(i)%law)
+          model_kinematics(model), model%materials(i)%law)
     end do
   end subroutine build_materials
 

@@ -214,12 +214,13 @@ contains
 
   !> The element routine: runs `task` (TASK_*; TASK_STIFFNESS with the law's reference
   !! tangent) on one element of type etype with shape data
-  !! shp, node coordinates xl(ndm, nen) and material mat, in the 2D idealisation `analysis`.
+  !! shp, node coordinates xl(ndm, nen) and material mat (whose law knows its kinematics: 2D
+  !! idealisation, small or finite strain).
   !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
   !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. Results go to `out` (element_out_t),
   !! whose arrays are allocated to fit.
-  subroutine element_routine(task, etype, shp, xl, mat, analysis, out, ul, hist_old, hist_new)
-    integer, intent(in) :: task, etype, analysis
+  subroutine element_routine(task, etype, shp, xl, mat, out, ul, hist_old, hist_new)
+    integer, intent(in) :: task, etype
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(:,:)
     type(material_t), intent(in) :: mat
@@ -243,19 +244,19 @@ contains
       call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
     case (TASK_STIFFNESS)
       call fit(out%s, 2*nen, 2*nen)
-      call mat%law%tangent_2d(analysis, d)
+      call mat%law%tangent_2d(d)
       call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
     case (TASK_FORCE)
       call fit(out%p, 2, nen)
       allocate(dnx(2, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
       call element_geometry(etype, shp, xl, dnx, dvol, out%ierr)
       if (out%ierr /= 0) return
-      call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, analysis, h0, h1, &
-          out%p, out%scalar)
+      call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, h0, h1, out%p, &
+          out%scalar, out%ierr)
       if (present(hist_new)) hist_new = h1
     case (TASK_STRESS)
       call fit(out%sig, 6, shp%ngp)
-      call solid2d_stress(nen, shp, xl, ul, mat%law, analysis, h0, out%sig, out%ierr)
+      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr)
     case (TASK_JACOBIAN)
       call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
     end select
@@ -289,18 +290,22 @@ contains
     end select
   end subroutine element_geometry
 
-  !> Internal force f(ndm, nen) and strain energy of one element from its stored geometry
-  !! (element_geometry), its displacements ul(ndm, nen) and its law; hist_old/hist_new
-  !! (nhist, ngp). Called for every element in every step of the element-loop force.
-  subroutine element_force(etype, nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, &
-      f, energy)
-    integer, intent(in) :: etype, nen, ngp, analysis
+  !> Internal force f(ndm, nen) and stored energy of one element from its stored geometry
+  !! (element_geometry), its displacements ul(ndm, nen) and its law;
+  !! hist_old/hist_new (nhist, ngp); ierr: 0, or the first point with det F <= 0. Called for
+  !! every element in every step of the element-loop force.
+  subroutine element_force(etype, nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, &
+      energy, ierr)
+    integer, intent(in) :: etype, nen, ngp
+    integer, intent(out) :: ierr
     real(dp), intent(in) :: dnx(:,:,:), dvol(:), ul(:,:), hist_old(:,:)
     class(law_t), intent(in) :: law
     real(dp), intent(out) :: hist_new(:,:), f(:,:), energy
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
-      call solid2d_force(nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, f, energy)
+      call solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr)
+    case default
+      ierr = -1
     end select
   end subroutine element_force
 

@@ -6,7 +6,7 @@
 module ictus_elements_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: elem_shape_t
-  use ictus_materials_law, only: law_t
+  use ictus_materials_law, only: law_t, tensor_of
   implicit none
   private
   public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume, &
@@ -138,46 +138,78 @@ contains
     grad(1:2, 1:2) = matmul(ul, transpose(dnx))
   end function gradient
 
-  !> Internal force of the material law, f_a = sum_g (sigma . grad N_a) dvol_g, and the strain
-  !! energy sum_g w_g dvol_g, with the geometry of `solid2d_geometry`.
-  !! nen; ngp; dnx(2, nen, ngp); dvol(ngp); ul(2, nen): displacements; law; analysis;
+  !> Internal force of the material law and the stored energy, with the geometry of
+  !! `solid2d_geometry`: in small strain f_a = sum_g (sigma . grad N_a) dvol_g; with NLGEOM
+  !! (total Lagrangian) f_a = sum_g (P . grad_X N_a) dvol_g with the first Piola-Kirchhoff
+  !! stress P = J sigma F^-T of the deformation gradient F = I + grad_X u (F_33 = 1 in 2D).
+  !! The energy is sum_g w_g dvol_g (per unit reference volume).
+  !! nen; ngp; dnx(2, nen, ngp); dvol(ngp); ul(2, nen): displacements; law (with its
+  !! kinematics);
   !! hist_old(:, ngp), hist_new(:, ngp): history per point (first dimension nhist, may be 0);
-  !! f(2, nen); energy.
-  pure subroutine solid2d_force(nen, ngp, dnx, dvol, ul, law, analysis, hist_old, hist_new, &
-      f, energy)
+  !! f(2, nen); energy; ierr: 0, or the first point with det F <= 0 (an inverted element; f is
+  !! then incomplete).
+  pure subroutine solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, &
+      ierr)
     integer, intent(in) :: nen, ngp
     real(dp), intent(in) :: dnx(2, nen, ngp), dvol(ngp), ul(2, nen)
     class(law_t), intent(in) :: law
-    integer, intent(in) :: analysis
     real(dp), intent(in) :: hist_old(:,:)
     real(dp), intent(out) :: hist_new(:,:)
     real(dp), intent(out) :: f(2, nen), energy
-    real(dp) :: sig(6), w
+    integer, intent(out) :: ierr
+    real(dp) :: sig(6), w, grad(3, 3), p(2, 2), detf, finv(2, 2), s2(2, 2)
     integer :: g, a
     f = 0.0_dp
     energy = 0.0_dp
+    ierr = 0
     do g = 1, ngp
-      call law%stress(analysis, gradient(nen, dnx(:, :, g), ul), hist_old(:, g), &
-          hist_new(:, g), sig, w)
-      sig = sig*dvol(g)
-      do a = 1, nen
-        f(1, a) = f(1, a) + sig(1)*dnx(1, a, g) + sig(4)*dnx(2, a, g)
-        f(2, a) = f(2, a) + sig(4)*dnx(1, a, g) + sig(2)*dnx(2, a, g)
-      end do
+      grad = gradient(nen, dnx(:, :, g), ul)
+      call law%stress(grad, hist_old(:, g), hist_new(:, g), sig, w)
       energy = energy + w*dvol(g)
+      if (.not. law%kin%nlgeom) then
+        sig = sig*dvol(g)
+        do a = 1, nen
+          f(1, a) = f(1, a) + sig(1)*dnx(1, a, g) + sig(4)*dnx(2, a, g)
+          f(2, a) = f(2, a) + sig(4)*dnx(1, a, g) + sig(2)*dnx(2, a, g)
+        end do
+        cycle
+      end if
+      ! in-plane F = I + grad and its inverse; P = J sigma F^-T, J = det F (F_33 = 1)
+      detf = (1.0_dp + grad(1, 1))*(1.0_dp + grad(2, 2)) - grad(1, 2)*grad(2, 1)
+      if (.not. detf > 0.0_dp) then
+        ierr = g
+        return
+      end if
+      finv(1, 1) = (1.0_dp + grad(2, 2))/detf
+      finv(2, 2) = (1.0_dp + grad(1, 1))/detf
+      finv(1, 2) = -grad(1, 2)/detf
+      finv(2, 1) = -grad(2, 1)/detf
+      s2 = tensor_of2(sig)
+      p = detf*dvol(g)*matmul(s2, transpose(finv))
+      do a = 1, nen
+        f(:, a) = f(:, a) + matmul(p, dnx(:, a, g))
+      end do
     end do
   end subroutine solid2d_force
 
+  !> The in-plane part (2, 2) of the symmetric tensor of Voigt components v.
+  pure function tensor_of2(v) result(a)
+    real(dp), intent(in) :: v(6)
+    real(dp) :: a(2, 2)
+    real(dp) :: t(3, 3)
+    t = tensor_of(v)
+    a = t(1:2, 1:2)
+  end function tensor_of2
+
   !> Cauchy stress of the material law at the quadrature points of shp.
-  !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; analysis; hist(:, ngp): the
+  !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; hist(:, ngp): the
   !! history per point; sig(6, shp%ngp): (xx, yy, zz, xy, yz, zx) per point; ierr: 0, or the
   !! first point with det J <= 0.
-  pure subroutine solid2d_stress(nen, shp, xl, ul, law, analysis, hist, sig, ierr)
+  pure subroutine solid2d_stress(nen, shp, xl, ul, law, hist, sig, ierr)
     integer, intent(in) :: nen
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(2, nen), ul(2, nen)
     class(law_t), intent(in) :: law
-    integer, intent(in) :: analysis
     real(dp), intent(in) :: hist(:,:)
     real(dp), intent(out) :: sig(6, shp%ngp)
     integer, intent(out) :: ierr
@@ -191,7 +223,7 @@ contains
         ierr = g
         return
       end if
-      call law%stress(analysis, gradient(nen, dnx, ul), hist(:, g), hist_new, sig(:, g), w)
+      call law%stress(gradient(nen, dnx, ul), hist(:, g), hist_new, sig(:, g), w)
     end do
   end subroutine solid2d_stress
 

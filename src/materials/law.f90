@@ -2,8 +2,9 @@
 !! quadrature point.
 !!
 !! A law is a type that extends `law_t`. Its point routine `stress` is pure: the displacement
-!! gradient and the history variables at the start of the step go in; the Cauchy stress, the
-!! history at the end of the step and the strain-energy density come out. The element keeps
+!! gradient (small strain), or with NLGEOM the deformation gradient F = I + grad, and the
+!! history variables at the start of the step go in; the Cauchy stress, the history at the end
+!! of the step and the stored-energy density come out. The element keeps
 !! no state of its own, so a law with history stores it in the state of the run (and so in
 !! checkpoints) through `nhist`. `wave_speed` gives the dilatational wave speed that bounds
 !! the stable time step, and `tangent_2d` the small-strain tangent at the reference state; a
@@ -16,14 +17,24 @@ module ictus_materials_law
   use ictus_core_kinds, only: dp
   implicit none
   private
-  public :: law_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, voigt_strain
+  public :: law_t, kinematics_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
+      voigt_strain, voigt_of, tensor_of, det3
 
   !> The kinematic idealisation a law is evaluated in.
   integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2, ANALYSIS_3D = 3
 
+  !> How a law is evaluated: the 2D idealisation (or 3D), and small strain (grad is the
+  !! small-strain displacement gradient) or finite strain (F = I + grad, NLGEOM=YES).
+  type :: kinematics_t
+    integer :: analysis = ANALYSIS_PLANE_STRAIN
+    logical :: nlgeom = .false.
+  end type kinematics_t
+
   type, abstract :: law_t
     !> Name of the law as the log and the results file show it.
     character(len=32) :: name = ''
+    !> How the law is evaluated (set before `init` by whoever makes the law).
+    type(kinematics_t) :: kin
     !> History variables per quadrature point (0 for an elastic law).
     integer :: nhist = 0
     !> The small-strain tangent at the reference state in 2D Voigt order (xx, yy, xy;
@@ -34,8 +45,8 @@ module ictus_materials_law
     logical :: linear = .false.
     real(dp) :: d2(3, 3, 2) = 0.0_dp
   contains
-    !> Sets the components above from the law's properties; called once by
-    !! `material_make_law` (and by whoever builds a law by hand).
+    !> Sets the components above from the law's properties and `kin`; called once by
+    !! `material_make_law` (and by whoever builds a law by hand, after setting `kin`).
     procedure(law_init_i), deferred :: init
     !> The point routine.
     procedure(law_stress_i), deferred :: stress
@@ -51,35 +62,54 @@ module ictus_materials_law
       class(law_t), intent(inout) :: this
     end subroutine law_init_i
 
-    !> analysis: ANALYSIS_*; grad(3, 3): displacement gradient du_i/dX_j; hist_old(nhist):
-    !! history at the start of the step; hist_new(nhist): at its end; sig(6): Cauchy stress
-    !! (xx, yy, zz, xy, yz, zx); w: strain-energy density per unit reference volume.
-    pure subroutine law_stress_i(this, analysis, grad, hist_old, hist_new, sig, w)
+    !> grad(3, 3): displacement gradient du_i/dX_j (F = I + grad with this%kin%nlgeom);
+    !! hist_old(nhist): history at the start of the step; hist_new(nhist): at its end;
+    !! sig(6): Cauchy stress (xx, yy, zz, xy, yz, zx); w: stored (elastic) energy density per
+    !! unit reference volume.
+    pure subroutine law_stress_i(this, grad, hist_old, hist_new, sig, w)
       import :: law_t, dp
       class(law_t), intent(in) :: this
-      integer, intent(in) :: analysis
       real(dp), intent(in) :: grad(3, 3), hist_old(:)
       real(dp), intent(out) :: hist_new(:), sig(6), w
     end subroutine law_stress_i
 
-    !> rho: density; analysis: ANALYSIS_*.
-    pure real(dp) function law_wave_i(this, rho, analysis)
+    !> rho: density.
+    pure real(dp) function law_wave_i(this, rho)
       import :: law_t, dp
       class(law_t), intent(in) :: this
       real(dp), intent(in) :: rho
-      integer, intent(in) :: analysis
     end function law_wave_i
   end interface
 
 contains
 
-  !> d(3, 3): the reference tangent of the 2D idealisation `analysis`.
-  pure subroutine law_tangent_2d(this, analysis, d)
+  !> d(3, 3): the reference tangent of the law's 2D idealisation.
+  pure subroutine law_tangent_2d(this, d)
     class(law_t), intent(in) :: this
-    integer, intent(in) :: analysis
     real(dp), intent(out) :: d(3, 3)
-    d = this%d2(:, :, merge(2, 1, analysis == ANALYSIS_PLANE_STRESS))
+    d = this%d2(:, :, merge(2, 1, this%kin%analysis == ANALYSIS_PLANE_STRESS))
   end subroutine law_tangent_2d
+
+  !> Determinant of a 3 x 3 matrix.
+  pure real(dp) function det3(a)
+    real(dp), intent(in) :: a(3, 3)
+    det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - &
+        a(2, 3)*a(3, 1)) + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
+  end function det3
+
+  !> The symmetric 3 x 3 tensor a in Voigt order (xx, yy, zz, xy, yz, zx), no factor 2.
+  pure function voigt_of(a) result(v)
+    real(dp), intent(in) :: a(3, 3)
+    real(dp) :: v(6)
+    v = [a(1, 1), a(2, 2), a(3, 3), a(1, 2), a(2, 3), a(3, 1)]
+  end function voigt_of
+
+  !> The symmetric 3 x 3 tensor of Voigt components v (xx, yy, zz, xy, yz, zx).
+  pure function tensor_of(v) result(a)
+    real(dp), intent(in) :: v(6)
+    real(dp) :: a(3, 3)
+    a = reshape([v(1), v(4), v(6), v(4), v(2), v(5), v(6), v(5), v(3)], [3, 3])
+  end function tensor_of
 
   !> Small-strain tensor of a displacement gradient in Voigt order (xx, yy, zz, xy, yz, zx)
   !! with engineering shears: eps = (grad + grad^T)/2, gamma_ij = 2 eps_ij.

@@ -1,11 +1,13 @@
-!> Isotropic linear elasticity as a material law (small strain): sigma = lambda tr(eps) I +
-!! 2 mu eps, with sigma_zz from the plane-strain or plane-stress condition in 2D.
+!> Isotropic linear elasticity as a material law (*ELASTIC): in small strain
+!! sigma = lambda tr(eps) I + 2 mu eps, with sigma_zz from the plane-strain or plane-stress
+!! condition in 2D; with NLGEOM the St. Venant-Kirchhoff law, its finite-strain extension.
 !!
 !! The constant tangent is the constitutive matrix of ictus_materials_elastic, so the
 !! assembled stiffness and the element loop over this law compute the same internal force.
 module ictus_materials_linear_elastic
   use ictus_core_kinds, only: dp
-  use ictus_materials_law, only: law_t, ANALYSIS_PLANE_STRESS, voigt_strain
+  use ictus_materials_law, only: law_t, ANALYSIS_PLANE_STRESS, voigt_strain, &
+      voigt_of, det3
   use ictus_materials_elastic, only: elastic_dmat, wave_speed_p
   implicit none
   private
@@ -33,30 +35,52 @@ contains
     call elastic_dmat(this%e, this%nu, .false., this%d2(:, :, 2))
   end subroutine le_init
 
-  !> sigma = D eps in 3D; plane stress sets sigma_zz = 0 through eps_zz = -nu/(1 - nu)
-  !! (eps_xx + eps_yy), plane strain takes eps_zz = 0 as given. w = sigma : eps / 2.
-  pure subroutine le_stress(this, analysis, grad, hist_old, hist_new, sig, w)
+  !> Small strain: sigma = D eps in 3D; plane stress sets sigma_zz = 0 through
+  !! eps_zz = -nu/(1 - nu) (eps_xx + eps_yy), plane strain takes eps_zz = 0 as given;
+  !! w = sigma : eps / 2. Finite strain (kin%nlgeom): St. Venant-Kirchhoff,
+  !! S = lambda tr(E) I + 2 mu E with E = (F^T F - I)/2, sigma = F S F^T / J,
+  !! w = lambda (tr E)^2 / 2 + mu E : E.
+  pure subroutine le_stress(this, grad, hist_old, hist_new, sig, w)
     class(linear_elastic_t), intent(in) :: this
-    integer, intent(in) :: analysis
     real(dp), intent(in) :: grad(3, 3), hist_old(:)
     real(dp), intent(out) :: hist_new(:), sig(6), w
-    real(dp) :: eps(6), lam, mu, tr
+    real(dp) :: eps(6), lam, mu, tr, f(3, 3), e(3, 3), s(3, 3), detf
+    integer :: i
     hist_new = hist_old
-    eps = voigt_strain(grad)
     mu = this%e/(2.0_dp*(1.0_dp + this%nu))
     lam = this%e*this%nu/((1.0_dp + this%nu)*(1.0_dp - 2.0_dp*this%nu))
-    if (analysis == ANALYSIS_PLANE_STRESS) eps(3) = -this%nu/(1.0_dp - this%nu)*(eps(1) + eps(2))
+    if (this%kin%nlgeom) then
+      f = grad
+      do i = 1, 3
+        f(i, i) = f(i, i) + 1.0_dp
+      end do
+      e = 0.5_dp*(matmul(transpose(f), f))
+      do i = 1, 3
+        e(i, i) = e(i, i) - 0.5_dp
+      end do
+      tr = e(1, 1) + e(2, 2) + e(3, 3)
+      s = 2.0_dp*mu*e
+      do i = 1, 3
+        s(i, i) = s(i, i) + lam*tr
+      end do
+      detf = det3(f)
+      sig = voigt_of(matmul(matmul(f, s), transpose(f))/detf)
+      w = 0.5_dp*lam*tr*tr + mu*sum(e*e)
+      return
+    end if
+    eps = voigt_strain(grad)
+    if (this%kin%analysis == ANALYSIS_PLANE_STRESS) eps(3) = -this%nu/(1.0_dp - this%nu)*(eps(1) + &
+        eps(2))
     tr = eps(1) + eps(2) + eps(3)
     sig(1:3) = lam*tr + 2.0_dp*mu*eps(1:3)
     sig(4:6) = mu*eps(4:6)
-    if (analysis == ANALYSIS_PLANE_STRESS) sig(3) = 0.0_dp
+    if (this%kin%analysis == ANALYSIS_PLANE_STRESS) sig(3) = 0.0_dp
     w = 0.5_dp*dot_product(sig, eps)
   end subroutine le_stress
 
-  pure real(dp) function le_wave_speed(this, rho, analysis)
+  pure real(dp) function le_wave_speed(this, rho)
     class(linear_elastic_t), intent(in) :: this
     real(dp), intent(in) :: rho
-    integer, intent(in) :: analysis
-    le_wave_speed = wave_speed_p(this%e, this%nu, rho, analysis /= ANALYSIS_PLANE_STRESS)
+    le_wave_speed = wave_speed_p(this%e, this%nu, rho, this%kin%analysis /= ANALYSIS_PLANE_STRESS)
   end function le_wave_speed
 end module ictus_materials_linear_elastic

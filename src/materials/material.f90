@@ -6,8 +6,9 @@
 !! "Adding a material law" walks through it.
 module ictus_materials_material
   use ictus_core_kinds, only: dp, str_len
-  use ictus_materials_law, only: law_t
+  use ictus_materials_law, only: law_t, kinematics_t
   use ictus_materials_linear_elastic, only: linear_elastic_t
+  use ictus_materials_neo_hooke, only: neo_hooke_t
   implicit none
   private
   public :: material_t, material_make_law
@@ -20,16 +21,21 @@ module ictus_materials_material
 
 contains
 
-  !> Allocates the law `name` with its properties `props` (in the order of the deck card) and
-  !! initialises it; `law` stays unallocated for an unknown name.
-  subroutine material_make_law(name, props, law)
+  !> Allocates the law `name` with its properties `props` (in the order of the deck card) for
+  !! the kinematics `kin` and initialises it; `law` stays unallocated for an unknown name.
+  subroutine material_make_law(name, props, kin, law)
     character(len=*), intent(in) :: name
     real(dp), intent(in) :: props(:)
+    type(kinematics_t), intent(in) :: kin
     class(law_t), allocatable, intent(out) :: law
     select case (name)
     case ('LINEAR ELASTIC')
       law = linear_elastic_t(e=props(1), nu=props(2))
+    case ('NEO HOOKE')
+      law = neo_hooke_t(c10=props(1), d1=props(2))
     end select
-    if (allocated(law)) call law%init()
+    if (.not. allocated(law)) return
+    law%kin = kin
+    call law%init()
   end subroutine material_make_law
 end module ictus_materials_material

@@ -128,7 +128,7 @@ contains
       mt = model%mat(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call element_routine(TASK_STIFFNESS, model%etype(e), shp, xl, model%materials(mt), &
-          model%analysis, kout)
+           kout)
       if (kout%ierr /= 0) cycle
       ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
       ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
@@ -139,7 +139,7 @@ contains
       end associate
       call bsr_add_element(ops%k, nen, nodes, kout%s)
       call element_routine(TASK_MASS, model%etype(e), shp, xl, model%materials(mt), &
-          model%analysis, mout)
+           mout)
       mass_e = mout%scalar
       if (dom%part(e) == dom%rank) then
         nmine = nmine + 1
@@ -159,7 +159,7 @@ contains
         if (model%hrz_rule(e) == HRZ_GAUSS2 .and. model%patch(e) == 0) then
           call element_shape(model, e, [2, 2], cache, 2, shp2)
           call element_routine(TASK_MASS, model%etype(e), shp2, xl, model%materials(mt), &
-              model%analysis, mout2)
+               mout2)
           do i = 1, nen
             diag(i) = mout2%s(i, i)
           end do
@@ -222,7 +222,7 @@ contains
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call element_routine(TASK_JACOBIAN, model%etype(e), shp, &
-          model%x0(:, model%conn(1:nen, e)), model%materials(model%mat(e)), model%analysis, out)
+          model%x0(:, model%conn(1:nen, e)), model%materials(model%mat(e)),  out)
       detj_min = out%scalar
       if (.not. (detj_min > 0.0_dp .and. detj_min <= huge(1.0_dp))) then
         nbad = nbad + 1

@@ -10,10 +10,10 @@ module ictus_solver_model
   use ictus_geometry_patch, only: patch_t
   use ictus_geometry_mesh, only: mesh_t
   use ictus_materials_material, only: material_t
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, kinematics_t
   implicit none
   private
-  public :: model_t, model_free, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
+  public :: model_t, model_free, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
 
@@ -34,8 +34,10 @@ module ictus_solver_model
   !! settings of the run on it.
   type, extends(mesh_t) :: model_t
     character(len=:), allocatable :: title
-    !> The kinematic idealisation (ANALYSIS_PLANE_STRAIN or ANALYSIS_PLANE_STRESS).
+    !> The kinematic idealisation (ANALYSIS_PLANE_STRAIN or ANALYSIS_PLANE_STRESS), and
+    !! finite strain (*STEP, NLGEOM=YES).
     integer :: analysis = ANALYSIS_PLANE_STRAIN
+    logical :: nlgeom = .false.
     real(dp) :: thickness = 1.0_dp
 
     !> Materials: name, density and law each (ictus_materials_material).
@@ -86,6 +88,14 @@ module ictus_solver_model
   end type model_t
 
 contains
+
+  !> How the material laws of model m are evaluated.
+  pure function model_kinematics(m) result(k)
+    type(model_t), intent(in) :: m
+    type(kinematics_t) :: k
+    k%analysis = m%analysis
+    k%nlgeom = m%nlgeom
+  end function model_kinematics
 
   !> Releases everything a model holds.
   subroutine model_free(m)

@@ -27,8 +27,10 @@ module ictus_solver_force_element
     !! (counted in the energy).
     integer :: nelem = 0
     integer :: nglobal = 0
-    integer :: analysis = 0
-    integer, allocatable :: etype(:), nen(:), ngp(:), mat(:)
+    !> The first element (global index) and step at which det F <= 0 at a quadrature point
+    !! (0: none): an inverted element stops the run.
+    integer :: inverted = 0
+    integer, allocatable :: etype(:), nen(:), ngp(:), mat(:), elem(:)
     integer, allocatable :: conn(:,:)
     logical, allocatable :: own(:)
     !> Geometry per quadrature point: dnx(ndm, nen_max, ngp_max, nelem), dvol(ngp_max, nelem).
@@ -58,7 +60,6 @@ contains
     ierr = 0
     el%nelem = dom%nelem
     el%nglobal = model%nel
-    el%analysis = model%analysis
     el%materials = model%materials
     nen_max = model%nen_max
     ngp_max = maxval(product(model%gauss, dim=1))
@@ -70,6 +71,7 @@ contains
         el%own(el%nelem), el%energy(el%nelem))
     el%energy = 0.0_dp
     el%conn = dom%conn
+    el%elem = dom%elem(1:dom%nelem)
     allocate(el%dnx(model%ndm, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
         source=0.0_dp)
     allocate(el%ul(model%ndm, nen_max), el%fe(model%ndm, nen_max), el%hnew(el%nhist, ngp_max))
@@ -108,7 +110,7 @@ contains
     real(dp), intent(in) :: u(:,:)
     real(dp), intent(inout) :: f(:,:)
     real(dp), intent(inout) :: hist(:,:,:)
-    integer :: k, a, i, nen, ngp
+    integer :: k, a, i, nen, ngp, ierr
     f(:, 1:nn) = 0.0_dp
     do k = 1, el%nelem
       nen = el%nen(k)
@@ -118,9 +120,10 @@ contains
       end do
       associate (law => el%materials(el%mat(k))%law)
         call element_force(el%etype(k), nen, ngp, el%dnx(:, 1:nen, 1:ngp, k), &
-            el%dvol(1:ngp, k), el%ul(:, 1:nen), law, el%analysis, hist(:, 1:ngp, k), &
-            el%hnew(:, 1:ngp), el%fe(:, 1:nen), el%energy(k))
+            el%dvol(1:ngp, k), el%ul(:, 1:nen), law, hist(:, 1:ngp, k), &
+            el%hnew(:, 1:ngp), el%fe(:, 1:nen), el%energy(k), ierr)
       end associate
+      if (ierr /= 0 .and. el%inverted == 0) el%inverted = el%elem(k)
       if (el%nhist > 0) hist(:, 1:ngp, k) = el%hnew(:, 1:ngp)
       do a = 1, nen
         i = el%conn(a, k)

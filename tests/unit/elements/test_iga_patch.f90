@@ -15,7 +15,7 @@ program test_iga_patch
   use ictus_elements_iga, only: iga_shape_data
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_stress
   use ictus_materials_elastic, only: elastic_dmat
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
+  use ictus_materials_law, only: kinematics_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   use ictus_materials_linear_elastic, only: linear_elastic_t
   use ictus_test_check, only: checker_t
   implicit none
@@ -138,6 +138,8 @@ contains
     ndof = 2*ncp
     call elastic_dmat(1000.0_dp, 0.2_dp, plane_strain, d)
     law = linear_elastic_t(e=1000.0_dp, nu=0.2_dp)
+    law%kin = kinematics_t(merge(ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, plane_strain), &
+        .false.)
     call law%init()
     allocate(kg(ndof, ndof), u(ndof), f(ndof))
     call assemble_k(q, d, ng, kg, ierr)
@@ -205,8 +207,7 @@ contains
       do a = 1, q%nen
         ul(:, a) = u(2*q%ien(a, e) - 1:2*q%ien(a, e))
       end do
-      call solid2d_stress(q%nen, shp, q%cp(1:2, q%ien(:, e)), ul, law, &
-          merge(ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, plane_strain), nohist, sig, ierr)
+      call solid2d_stress(q%nen, shp, q%cp(1:2, q%ien(:, e)), ul, law, nohist, sig, ierr)
       do a = 1, shp%ngp
         err_s = max(err_s, maxval(abs(sig([1, 2, 4], a) - sig_exact)))
       end do

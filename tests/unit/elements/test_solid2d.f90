@@ -8,7 +8,7 @@ program test_solid2d
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_volume
   use ictus_materials_elastic, only: elastic_dmat
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
+  use ictus_materials_law, only: kinematics_t, ANALYSIS_PLANE_STRAIN
   use ictus_materials_linear_elastic, only: linear_elastic_t
   use ictus_test_check, only: checker_t
   implicit none
@@ -35,6 +35,7 @@ program test_solid2d
   call t%start("elements/solid2d")
   call elastic_dmat(1000.0_dp, 0.2_dp, .true., d)
   law = linear_elastic_t(e=1000.0_dp, nu=0.2_dp)
+  law%kin = kinematics_t(ANALYSIS_PLANE_STRAIN, .false.)
   call law%init()
   do k = 1, 3
     call case_patch(t, types(k), d)
@@ -194,8 +195,7 @@ contains
         end do
         call solid2d_min_detj(nen, shp, xl(:, 1:nen), detj_min, igp)
         call t%true(detj_min > 0.0_dp .and. igp >= 1, etype_name(et)//' patch min det J > 0')
-        call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, ANALYSIS_PLANE_STRAIN, &
-            nohist, sig, ierr)
+        call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, nohist, sig, ierr)
         call t%equal_int(ierr, 0, etype_name(et)//' patch stress ierr')
         do g = 1, shp%ngp
           do i = 1, 3
@@ -318,8 +318,7 @@ contains
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: stiffness ierr')
     call solid2d_mass(nen, shp, xl(:, 1:nen), 1.0_dp, 1.0_dp, me, mass_e, ierr)
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: mass ierr')
-    call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, ANALYSIS_PLANE_STRAIN, &
-            nohist, sig, ierr)
+    call solid2d_stress(nen, shp, xl(:, 1:nen), ul(:, 1:nen), law, nohist, sig, ierr)
     call t%equal_int(ierr, 1, etype_name(et)//' inverted: stress ierr')
     call solid2d_min_detj(nen, shp, xl(:, 1:nen), detj_min, igp)
     call t%close(detj_min, -0.25_dp, 1.0e-14_dp, etype_name(et)//' inverted: det J = -1/4')

@@ -13,6 +13,7 @@ program test_guide_element
   use ictus_parallel_env, only: env_init, env_finalize
   use ictus_elements_library, only: element_register, element_type_of, etype_name
   use ictus_materials_material, only: material_t, material_make_law
+  use ictus_materials_law, only: kinematics_t
   use ictus_solver_model, only: model_t, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_apply
   use guide_model, only: rectangle_model, run_t, run_setup, run_record
@@ -32,7 +33,7 @@ program test_guide_element
   call t%true(etype_name(et) == 'T3TOY', 'the type is named T3TOY')
   mat%name = 'steel'
   mat%density = rho
-  call material_make_law('LINEAR ELASTIC', [e_mod, nu], mat%law)
+  call material_make_law('LINEAR ELASTIC', [e_mod, nu], kinematics_t(), mat%law)
   call case_patch(t)
   call case_translation(t)
   call case_two_forces(t)

@@ -13,7 +13,7 @@ program test_guide_law
   use ictus_parallel_env, only: env_init, env_finalize
   use ictus_elements_types, only: ETYPE_Q4
   use ictus_materials_material, only: material_t, material_make_law
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
+  use ictus_materials_law, only: kinematics_t, ANALYSIS_PLANE_STRAIN
   use ictus_solver_model, only: model_t, FORCE_ELEMENT, FORCE_ASSEMBLED
   use ictus_solver_internal_force, only: force_choice
   use guide_model, only: rectangle_model, run_t, run_setup, run_record
@@ -32,12 +32,13 @@ program test_guide_law
   toy%name = 'toy'
   toy%density = rho
   toy%law = lame_law_t(lambda=lambda, mu=mu)
+  toy%law%kin = kinematics_t(ANALYSIS_PLANE_STRAIN, .false.)
   call toy%law%init()
   lin%name = 'linear'
   lin%density = rho
-  call material_make_law('LINEAR ELASTIC', [e_mod, nu], lin%law)
-  call t%close(toy%law%wave_speed(rho, ANALYSIS_PLANE_STRAIN), &
-      lin%law%wave_speed(rho, ANALYSIS_PLANE_STRAIN), 1.0e-14_dp, 'wave speed = c_p')
+  call material_make_law('LINEAR ELASTIC', [e_mod, nu], kinematics_t(), lin%law)
+  call t%close(toy%law%wave_speed(rho), lin%law%wave_speed(rho), 1.0e-14_dp, &
+      'wave speed = c_p')
   call case_run(t)
   call t%finish()
   call env_finalize()

@@ -36,11 +36,9 @@ contains
     this%d2(2, 2, 2) = this%d2(2, 2, 2) + 2.0_dp*this%mu
   end subroutine lame_init
 
-  !> Plane strain (eps_zz = 0) or 3D; this toy refuses nothing, but the tests use plane
-  !! strain only. hist(1) = max(hist(1), w).
-  pure subroutine lame_stress(this, analysis, grad, hist_old, hist_new, sig, w)
+  !> Small strain only (the tests use plane strain: eps_zz = 0); hist(1) = max(hist(1), w).
+  pure subroutine lame_stress(this, grad, hist_old, hist_new, sig, w)
     class(lame_law_t), intent(in) :: this
-    integer, intent(in) :: analysis
     real(dp), intent(in) :: grad(3, 3), hist_old(:)
     real(dp), intent(out) :: hist_new(:), sig(6), w
     real(dp) :: eps(6), tr
@@ -48,17 +46,16 @@ contains
     tr = eps(1) + eps(2) + eps(3)
     sig(1:3) = this%lambda*tr + 2.0_dp*this%mu*eps(1:3)
     sig(4:6) = this%mu*eps(4:6)
-    if (analysis == ANALYSIS_PLANE_STRESS) sig(3) = 0.0_dp
+    if (this%kin%analysis == ANALYSIS_PLANE_STRESS) sig(3) = 0.0_dp
     w = 0.5_dp*dot_product(sig, eps)
     hist_new(1) = max(hist_old(1), w)
   end subroutine lame_stress
 
-  pure real(dp) function lame_wave_speed(this, rho, analysis)
+  pure real(dp) function lame_wave_speed(this, rho)
     class(lame_law_t), intent(in) :: this
     real(dp), intent(in) :: rho
-    integer, intent(in) :: analysis
     lame_wave_speed = sqrt((this%lambda + 2.0_dp*this%mu)/rho)
-    if (analysis == ANALYSIS_PLANE_STRESS) lame_wave_speed = &
+    if (this%kin%analysis == ANALYSIS_PLANE_STRESS) lame_wave_speed = &
         sqrt(4.0_dp*this%mu*(this%lambda + this%mu)/((this%lambda + 2.0_dp*this%mu)*rho))
   end function lame_wave_speed
 end module toy_law
