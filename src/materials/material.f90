@@ -9,6 +9,7 @@ module ictus_materials_material
   use ictus_materials_law, only: law_t, kinematics_t
   use ictus_materials_linear_elastic, only: linear_elastic_t
   use ictus_materials_neo_hooke, only: neo_hooke_t
+  use ictus_materials_j2_plastic, only: j2_plastic
   implicit none
   private
   public :: material_t, material_make_law
@@ -21,7 +22,7 @@ module ictus_materials_material
 
 contains
 
-  !> Allocates the law `name` with its properties `props` (in the order of the deck card) for
+  !> Allocates the law `name` with its properties `props` (in the order of the deck cards) for
   !! the kinematics `kin` and initialises it; `law` stays unallocated for an unknown name.
   subroutine material_make_law(name, props, kin, law)
     character(len=*), intent(in) :: name
@@ -33,6 +34,9 @@ contains
       law = linear_elastic_t(e=props(1), nu=props(2))
     case ('NEO HOOKE')
       law = neo_hooke_t(c10=props(1), d1=props(2))
+    case ('J2')
+      ! E, nu, then the pairs (sigma_y, epbar) of the hardening table
+      law = j2_plastic(props(1), props(2), props(3:))
     end select
     if (.not. allocated(law)) return
     law%kin = kin
