@@ -60,6 +60,7 @@ contains
     if (allocated(deck%title)) model%title = deck%title
     model%analysis = ANALYSIS_PLANE_STRESS
     if (deck%analysis == DECK_PLANE_STRAIN) model%analysis = ANALYSIS_PLANE_STRAIN
+    model%nlgeom = deck%has_step .and. deck%step%nlgeom
     model%thickness = deck%thickness
     call build_materials(deck, model)
     call build_patches(deck, model)
@@ -110,10 +111,20 @@ contains
     model%nmat = deck%n_materials
     allocate(model%materials(model%nmat))
     do i = 1, model%nmat
-      model%materials(i)%name = deck%materials(i)%name
-      model%materials(i)%density = deck%materials(i)%rho
-      call material_make_law('LINEAR ELASTIC', [deck%materials(i)%e, deck%materials(i)%nu], &
-          model_kinematics(model), model%materials(i)%law)
+      associate (m => deck%materials(i))
+        model%materials(i)%name = m%name
+        model%materials(i)%density = m%rho
+        if (m%has_hyperelastic) then
+          call material_make_law('NEO HOOKE', [m%c10, m%d1], model_kinematics(model), &
+              model%materials(i)%law)
+        else if (m%has_plastic) then
+          call material_make_law('J2', [m%e, m%nu, reshape(m%plastic, [size(m%plastic)])], &
+              model_kinematics(model), model%materials(i)%law)
+        else
+          call material_make_law('LINEAR ELASTIC', [m%e, m%nu], model_kinematics(model), &
+              model%materials(i)%law)
+        end if
+      end associate
     end do
   end subroutine build_materials
 

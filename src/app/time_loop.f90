@@ -198,7 +198,8 @@ contains
     type(history_record_t) :: rec
     associate (s => stp%s, model => stp%model, dom => stp%dom)
       if (mod(n, lp%history_every) == 0 .or. n == lp%nsteps) then
-        rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext)
+        rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext, &
+            s%e_plastic)
         call results_contact(lp%res, stp%contact)
         call results_history(lp%res, rec)
         if (n == 0) lp%e0 = total_energy(s)
@@ -213,10 +214,11 @@ contains
     end associate
   end subroutine write_outputs
 
-  !> kinetic + strain + contact - external work at the last record.
+  !> kinetic + strain + contact (+ plastic work) - external work at the last record.
   pure real(dp) function total_energy(s)
     type(state_t), intent(in) :: s
     total_energy = s%e_kin + s%e_strain + s%e_contact - s%w_ext
+    if (s%e_plastic /= 0.0_dp) total_energy = total_energy + s%e_plastic
   end function total_energy
 
   !> At step n (the state at t_n): a checkpoint when one is due (every RESTART EVERY steps, or

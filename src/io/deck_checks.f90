@@ -13,8 +13,8 @@ module ictus_io_deck_checks
   use ictus_core_kinds, only: str_len
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: str
-  use ictus_io_deck_types, only: deck_t, SET_NODE, SET_ELEMENT, SIDE_NONE, SURF_PATCH, &
-      OP_ELEVATE, where_len
+  use ictus_io_deck_types, only: deck_t, material_in_t, SET_NODE, SET_ELEMENT, SIDE_NONE, &
+      SURF_PATCH, OP_ELEVATE, where_len, ANALYSIS_PLANE_STRESS
   implicit none
   private
   public :: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, SKIP_SETS, SKIP_PATCHES, &
@@ -48,11 +48,40 @@ contains
     call collect_names(d, names)
     names%skip = skip
     call check_materials(d, iand(skip, SKIP_MATERIALS) /= 0)
+    if (d%step%nlgeom .and. d%analysis == ANALYSIS_PLANE_STRESS) call input_error( &
+        d%step%where, '*STEP, NLGEOM=YES: finite strain is not implemented in plane stress '// &
+        '(the thickness stretch is not solved for; use *ANALYSIS, TYPE=PLANE STRAIN)')
     call check_nodes_elements(d, names)
     call check_patches(d, skip)
     call check_sets(d, names)
     call check_uses(d, names)
   end subroutine check_deck
+
+  !> The law of material m against the step: *HYPERELASTIC needs NLGEOM=YES; *PLASTIC needs
+  !! *ELASTIC; neither finite strain nor J2 plasticity is implemented in plane stress (the
+  !! thickness change would need its own return); INTERNAL FORCE=ASSEMBLED is exact only for a
+  !! linear law in small strain.
+  subroutine check_laws(d, m)
+    type(deck_t), intent(in) :: d
+    type(material_in_t), intent(in) :: m
+    character(len=:), allocatable :: step
+    step = trim(d%step%where)
+    if (len(step) == 0) step = trim(m%law_where)
+    if (m%has_hyperelastic .and. .not. d%step%nlgeom) call input_error(m%law_where, &
+        '*HYPERELASTIC: the neo-Hookean law of material '//trim(m%name)//' is a finite-'// &
+        'strain law: it needs *STEP, NLGEOM=YES')
+    if (m%has_plastic .and. .not. m%has_elastic) call input_error(m%where, '*PLASTIC: '// &
+        'material '//trim(m%name)//' has plasticity without *ELASTIC (J2 plasticity '// &
+        'takes its elastic part from *ELASTIC)')
+    if (d%analysis == ANALYSIS_PLANE_STRESS .and. m%has_plastic) call input_error(m%where, &
+        '*PLASTIC: J2 plasticity of material '//trim(m%name)//' is not implemented in '// &
+        'plane stress (use *ANALYSIS, TYPE=PLANE STRAIN)')
+    if (d%step%internal_force == 'ASSEMBLED' .and. (d%step%nlgeom .or. m%has_plastic .or. &
+        m%has_hyperelastic)) call input_error(d%step%dynamic_where, '*DYNAMIC, EXPLICIT: '// &
+        'INTERNAL FORCE=ASSEMBLED is exact only for linear laws in small strain, but '// &
+        'material '//trim(m%name)//' is '//trim(merge('nonlinear        ', &
+        'in finite strain ', m%has_plastic .or. m%has_hyperelastic))//' (use AUTO or ELEMENT)')
+  end subroutine check_laws
 
   !> Builds the table of set, patch and surface names.
   subroutine collect_names(d, t)
@@ -125,15 +154,18 @@ contains
     call input_error(where, card//': '//what//' '//trim(name)//' is used but never defined')
   end subroutine need
 
-  !> Every material has *ELASTIC and *DENSITY; element blocks and patches name a material.
+  !> Every material has an elastic law (*ELASTIC or *HYPERELASTIC) and *DENSITY, and its law
+  !! fits the kinematics (check_laws); element blocks and patches name a material.
   subroutine check_materials(d, skip_undefined)
     type(deck_t), intent(in) :: d
     logical, intent(in) :: skip_undefined
     integer :: k
     do k = 1, d%n_materials
-      if (.not. d%materials(k)%has_elastic) call input_error(d%materials(k)%where, &
-          '*MATERIAL: material '//trim(d%materials(k)%name)//' has no *ELASTIC card '// &
-          '(expected *ELASTIC with "E, nu")')
+      if (.not. (d%materials(k)%has_elastic .or. d%materials(k)%has_hyperelastic)) &
+          call input_error(d%materials(k)%where, '*MATERIAL: material '// &
+          trim(d%materials(k)%name)//' has no *ELASTIC card (expected *ELASTIC with "E, '// &
+          'nu", or *HYPERELASTIC, NEO HOOKE with NLGEOM=YES)')
+      call check_laws(d, d%materials(k))
       if (.not. d%materials(k)%has_density) call input_error(d%materials(k)%where, &
           '*MATERIAL: material '//trim(d%materials(k)%name)//' has no *DENSITY card '// &
           '(expected *DENSITY with "rho")')

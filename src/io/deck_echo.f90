@@ -10,7 +10,8 @@
 module ictus_io_deck_echo
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
-  use ictus_io_deck_types, only: deck_t, set_in_t, ANALYSIS_PLANE_STRESS, etype_name, &
+  use ictus_io_deck_types, only: deck_t, set_in_t, material_in_t, ANALYSIS_PLANE_STRESS, &
+      etype_name, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
       OP_ELEVATE, CONTACT_NODE_TO_SEGMENT
   implicit none
@@ -68,6 +69,11 @@ contains
           call put(t, '*ELASTIC')
           call put(t, real_text(m%e)//', '//real_text(m%nu))
         end if
+        if (m%has_hyperelastic) then
+          call put(t, '*HYPERELASTIC, NEO HOOKE')
+          call put(t, real_text(m%c10)//', '//real_text(m%d1))
+        end if
+        if (m%has_plastic) call echo_plastic(m, t)
         if (m%has_density) then
           call put(t, '*DENSITY')
           call put(t, real_text(m%rho))
@@ -75,6 +81,18 @@ contains
       end associate
     end do
   end subroutine echo_materials
+
+  !> *PLASTIC with its table.
+  subroutine echo_plastic(m, t)
+    type(material_in_t), intent(in) :: m
+    type(text_t), intent(inout) :: t
+    integer :: k
+    call put(t, '*PLASTIC')
+    if (.not. allocated(m%plastic)) return
+    do k = 1, size(m%plastic, 2)
+      call put(t, real_text(m%plastic(1, k))//', '//real_text(m%plastic(2, k)))
+    end do
+  end subroutine echo_plastic
 
   !> *NODE and *ELEMENT cards.
   subroutine echo_mesh(d, full, t)
@@ -312,7 +330,12 @@ contains
     ! (a checkpoint is continued only with the same processed deck)
     if (d%step%internal_force /= 'AUTO') sweep = sweep//', INTERNAL FORCE='// &
         trim(d%step%internal_force)
-    call put(t, '*STEP')
+    ! NLGEOM only when YES: the processed text of a small-strain deck stays as it was
+    if (d%step%nlgeom) then
+      call put(t, '*STEP, NLGEOM=YES')
+    else
+      call put(t, '*STEP')
+    end if
     select case (d%step%mass_solver)
     case ('CG')
       call put(t, '*DYNAMIC, EXPLICIT, SAFETY='//real_text(d%step%safety)// &

@@ -12,11 +12,12 @@ module ictus_io_deck_material
   use ictus_io_deck_types, only: deck_t, mass_in_t, damping_in_t, MASS_CONSISTENT, &
       MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_FULL, HRZ_GAUSS2
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_name, &
-      get_choice, get_reals, no_data, one_line, line_reals
+      get_choice, get_reals, no_data, one_line, line_reals, has_flag, has_data
   use ictus_io_deck_grow, only: grow_materials, grow_masses, grow_dampings
   implicit none
   private
-  public :: read_material, read_elastic, read_density, read_mass, read_damping
+  public :: read_material, read_elastic, read_density, read_mass, read_damping, &
+      read_hyperelastic, read_plastic
 
   !> Codes of the choices of *MASS, TYPE= and INTEGRATION=, in list order.
   integer, parameter :: mass_codes(4) = [MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA]
@@ -72,7 +73,13 @@ contains
         call card_error(c, 'second *ELASTIC for material '//trim(m%name))
         return
       end if
+      if (m%has_hyperelastic) then
+        call card_error(c, 'material '//trim(m%name)//' has *HYPERELASTIC already (at '// &
+            trim(m%law_where)//'): one elastic law per material')
+        return
+      end if
       m%has_elastic = .true.
+      m%law_where = c%where
       if (c%bad) return
       if (.not. one_line(c, rd, expect, i)) return
       if (.not. line_reals(rd, i, 2, expect, v)) return
@@ -84,6 +91,80 @@ contains
           '*ELASTIC: Poisson''s ratio nu must lie in (-1, 0.5), found '//str(v(2)))
     end associate
   end subroutine read_elastic
+
+  !> *HYPERELASTIC, NEO HOOKE: one data line "C10, D1" (the compressible neo-Hookean law of
+  !! the Abaqus form; it needs NLGEOM=YES on *STEP, checked by check_deck).
+  subroutine read_hyperelastic(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = '*HYPERELASTIC: expected 2 numbers (C10, D1)'
+    real(dp) :: v(2)
+    integer :: i
+    call check_params(c, '', 'NEO HOOKE')
+    if (.not. has_flag(c, 'NEO HOOKE')) call card_error(c, 'the neo-Hookean law is the one '// &
+        'hyperelastic law (expected *HYPERELASTIC, NEO HOOKE)')
+    if (.not. material_context(c, rd)) return
+    associate (m => d%materials(rd%material))
+      if (m%has_elastic .or. m%has_hyperelastic) then
+        call card_error(c, 'material '//trim(m%name)//' has an elastic law already (at '// &
+            trim(m%law_where)//'): one elastic law per material')
+        return
+      end if
+      m%has_hyperelastic = .true.
+      m%law_where = c%where
+      if (c%bad) return
+      if (.not. one_line(c, rd, expect, i)) return
+      if (.not. line_reals(rd, i, 2, expect, v)) return
+      m%c10 = v(1)
+      m%d1 = v(2)
+      if (.not. v(1) > 0.0_dp) call input_error(line_where(rd%src, i), '*HYPERELASTIC: '// &
+          'C10 must be > 0 (the shear modulus is 2 C10), found '//str(v(1)))
+      if (.not. v(2) > 0.0_dp) call input_error(line_where(rd%src, i), '*HYPERELASTIC: '// &
+          'D1 must be > 0 (the bulk modulus is 2/D1), found '//str(v(2)))
+    end associate
+  end subroutine read_hyperelastic
+
+  !> *PLASTIC: lines "sigma_y, epbar" of the isotropic hardening table of J2 plasticity,
+  !! epbar starting at 0 and increasing; with *ELASTIC (checked by check_deck).
+  subroutine read_plastic(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = '*PLASTIC: expected 2 numbers per line '// &
+        '(yield stress, equivalent plastic strain)'
+    real(dp) :: v(2)
+    integer :: i, n
+    call check_params(c, 'HARDENING', '')
+    call get_choice(c, 'HARDENING', 'ISOTROPIC', n)
+    if (.not. material_context(c, rd)) return
+    associate (m => d%materials(rd%material))
+      if (m%has_plastic) then
+        call card_error(c, 'second *PLASTIC for material '//trim(m%name))
+        return
+      end if
+      m%has_plastic = .true.
+      if (c%bad) return
+      if (.not. has_data(c, expect)) return
+      allocate(m%plastic(2, c%last - c%first + 1))
+      n = 0
+      do i = c%first, c%last
+        if (.not. line_reals(rd, i, 2, expect, v)) return
+        n = n + 1
+        m%plastic(:, n) = v
+        if (.not. v(1) > 0.0_dp) call input_error(line_where(rd%src, i), '*PLASTIC: the '// &
+            'yield stress must be > 0, found '//str(v(1)))
+        if (n == 1 .and. v(2) /= 0.0_dp) call input_error(line_where(rd%src, i), &
+            '*PLASTIC: the first equivalent plastic strain must be 0 (the initial yield '// &
+            'stress), found '//str(v(2)))
+        if (n > 1) then
+          if (.not. v(2) > m%plastic(2, n - 1)) call input_error(line_where(rd%src, i), &
+              '*PLASTIC: the equivalent plastic strains must increase, found '// &
+              str(v(2))//' after '//str(m%plastic(2, n - 1)))
+        end if
+      end do
+    end associate
+  end subroutine read_plastic
 
   !> *DENSITY: one data line "rho" for the current material.
   subroutine read_density(c, rd, d)

@@ -29,7 +29,7 @@ module ictus_io_deck_reader
       read_set, read_surface
   use ictus_io_deck_patch, only: read_patch, read_knots, read_control_points, read_patch_op
   use ictus_io_deck_material, only: read_material, read_elastic, read_density, read_mass, &
-      read_damping
+      read_damping, read_hyperelastic, read_plastic
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
   use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall
   use ictus_io_deck_step, only: read_step, read_dynamic, read_output, read_restart, &
@@ -97,7 +97,7 @@ contains
       return
     end if
     select case (kw%name)
-    case ('MATERIAL', 'ELASTIC', 'DENSITY')
+    case ('MATERIAL', 'ELASTIC', 'DENSITY', 'HYPERELASTIC', 'PLASTIC')
       rd%broken = ior(rd%broken, SKIP_MATERIALS)
     case ('NODE')
       rd%broken = ior(rd%broken, ior(SKIP_NODES, SKIP_SETS))
@@ -165,7 +165,11 @@ contains
     type(deck_t), intent(inout) :: d
     logical :: step_card
 
-    if (c%kw%name /= 'ELASTIC' .and. c%kw%name /= 'DENSITY') rd%material = 0
+    select case (c%kw%name)
+    case ('ELASTIC', 'DENSITY', 'HYPERELASTIC', 'PLASTIC')
+    case default
+      rd%material = 0
+    end select
     if (c%kw%name /= 'KNOTS' .and. c%kw%name /= 'CONTROL POINTS') rd%patch = 0
     select case (c%kw%name)
     case ('DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')
@@ -202,6 +206,10 @@ contains
       call read_elastic(c, rd, d)
     case ('DENSITY')
       call read_density(c, rd, d)
+    case ('HYPERELASTIC')
+      call read_hyperelastic(c, rd, d)
+    case ('PLASTIC')
+      call read_plastic(c, rd, d)
     case ('NODE')
       call read_node(c, rd, d)
     case ('ELEMENT')
@@ -250,7 +258,8 @@ contains
   pure logical function is_known_card(name)
     character(len=*), intent(in) :: name
     select case (name)
-    case ('HEADING', 'ANALYSIS', 'MATERIAL', 'ELASTIC', 'DENSITY', 'NODE', 'ELEMENT', &
+    case ('HEADING', 'ANALYSIS', 'MATERIAL', 'ELASTIC', 'DENSITY', 'HYPERELASTIC', 'PLASTIC', &
+        'NODE', 'ELEMENT', &
         'PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE', 'NSET', 'ELSET', 'SURFACE', &
         'BOUNDARY', 'INITIAL CONDITIONS', 'CONTACT PAIR', 'RIGID WALL', 'DAMPING', 'MASS', &
         'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')

@@ -19,12 +19,15 @@ module ictus_io_deck_step
 
 contains
 
-  !> *STEP: opens the (single) step.
+  !> *STEP [, NLGEOM=YES|NO]: opens the (single) step; NLGEOM=YES is finite strain (default
+  !! NO, small strain).
   subroutine read_step(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
-    call check_params(c, '', '')
+    integer :: k
+    call check_params(c, 'NLGEOM', '')
+    call get_choice(c, 'NLGEOM', 'YES|NO', k)
     call no_data(c, rd)
     if (rd%in_step) then
       call card_error(c, 'a *STEP inside a step (expected *END STEP first)')
@@ -39,6 +42,7 @@ contains
     end if
     d%has_step = .true.
     d%step%where = c%where
+    d%step%nlgeom = k == 1
   end subroutine read_step
 
   !> *DYNAMIC, EXPLICIT [, SAFETY=s] [, MASS SOLVER=CHOLESKY|CG|CORRECTOR] [, MASS TOL=tol]

@@ -36,7 +36,7 @@ module ictus_io_deck_types
   integer, parameter :: OP_ELEVATE = 1, OP_REFINE = 2
   integer, parameter :: CONTACT_TWO_HALF_PASS = 1, CONTACT_NODE_TO_SEGMENT = 2
 
-  !> *MATERIAL with its *ELASTIC and *DENSITY.
+  !> *MATERIAL with its *ELASTIC (or *HYPERELASTIC), *PLASTIC and *DENSITY.
   type :: material_in_t
     character(len=str_len) :: name = ''
     real(dp) :: e = 0.0_dp
@@ -44,7 +44,15 @@ module ictus_io_deck_types
     real(dp) :: rho = 0.0_dp
     logical :: has_elastic = .false.
     logical :: has_density = .false.
+    !> *HYPERELASTIC, NEO HOOKE: C10, D1.
+    logical :: has_hyperelastic = .false.
+    real(dp) :: c10 = 0.0_dp
+    real(dp) :: d1 = 0.0_dp
+    !> *PLASTIC: the hardening table, (sigma_y, epbar) pairs in rows.
+    logical :: has_plastic = .false.
+    real(dp), allocatable :: plastic(:,:)
     character(len=where_len) :: where = ''
+    character(len=where_len) :: law_where = ''
   end type material_in_t
 
   !> One *ELEMENT card and its data lines.
@@ -180,6 +188,8 @@ module ictus_io_deck_types
     !> How the internal force is formed (INTERNAL FORCE=): AUTO (the assembled stiffness
     !! where every law is linear, else the element loop), ASSEMBLED or ELEMENT.
     character(len=16) :: internal_force = 'AUTO'
+    !> *STEP, NLGEOM=YES: finite strain.
+    logical :: nlgeom = .false.
     !> Lumped-mass steps per sweep over the stiffness (SWEEP STEPS=); 0 = AUTO (6 steps,
     !! kept where the run measures them faster than single steps).
     integer :: sweep_steps = 0

@@ -37,6 +37,7 @@ module ictus_io_results
     real(dp) :: strain = 0.0_dp
     real(dp) :: contact = 0.0_dp
     real(dp) :: external_work = 0.0_dp
+    real(dp) :: plastic_work = 0.0_dp
   end type history_record_t
 
   type :: results_t
@@ -44,6 +45,8 @@ module ictus_io_results
     character(len=:), allocatable :: path
     character(len=:), allocatable :: xdmf_path
     integer :: nbuf = 0
+    !> Whether the energies have a plastic-work term (a material law dissipates).
+    logical :: plastic = .false.
     !> History records already appended to the file.
     integer :: n_written = 0
     type(history_record_t) :: buf(buffer_size)
@@ -91,6 +94,7 @@ contains
     integer(hid_t) :: g
     call set_paths(r, path)
     r%nn = model%nn
+    r%plastic = dissipates(model)
     allocate(r%field_step(0), r%field_time(0))
     call h5u_create_file(path, r%file)
     call h5u_attr_string(r%file, 'program', 'ictus')
@@ -120,6 +124,7 @@ contains
     call h5u_create_ext(g, 'strain', 0, buffer_size)
     call h5u_create_ext(g, 'contact', 0, buffer_size)
     call h5u_create_ext(g, 'external_work', 0, buffer_size)
+    if (r%plastic) call h5u_create_ext(g, 'plastic_work', 0, buffer_size)
     call h5u_create_ext(g, 'total', 0, buffer_size)
     call h5u_close_group(g)
     call h5u_group(r%file, 'fields', g)
@@ -127,6 +132,17 @@ contains
     call open_contact(r, contact)
     call h5u_flush(r%file)
   end subroutine results_open
+
+  !> Whether a material law of the model dissipates energy (then /history/energy has
+  !! plastic_work).
+  logical function dissipates(model)
+    type(model_t), intent(in) :: model
+    integer :: m
+    dissipates = .false.
+    do m = 1, model%nmat
+      if (model%materials(m)%law%hist_dissipation > 0) dissipates = .true.
+    end do
+  end function dissipates
 
   !> /history/contact/<pair>/ datasets and the /contact group.
   subroutine open_contact(r, contact)
@@ -323,6 +339,7 @@ contains
         'force_second', 'max_pressure', 'max_penetration', 'active_points']
     call set_paths(r, path)
     r%nn = model%nn
+    r%plastic = dissipates(model)
     call h5u_open_file(path, .true., r%file, ok)
     if (.not. ok) return
     call setup_views(r, model, dom)
@@ -336,6 +353,7 @@ contains
     call h5u_truncate(g, 'dt', n_history)
     call h5u_close_group(g)
     call h5u_group(r%file, 'history/energy', g)
+    if (r%plastic) call h5u_truncate(g, 'plastic_work', n_history)
     do k = 1, size(energies)
       call h5u_truncate(g, trim(energies(k)), n_history)
     end do
@@ -420,7 +438,14 @@ contains
     call h5u_append(g, 'external_work', r%col(1:n))
     r%col(1:n) = r%buf(1:n)%kinetic + r%buf(1:n)%strain + r%buf(1:n)%contact &
         - r%buf(1:n)%external_work
-    call h5u_append(g, 'total', r%col(1:n))
+    if (r%plastic) then
+      r%col(1:n) = r%col(1:n) + r%buf(1:n)%plastic_work
+      call h5u_append(g, 'total', r%col(1:n))
+      r%col(1:n) = r%buf(1:n)%plastic_work
+      call h5u_append(g, 'plastic_work', r%col(1:n))
+    else
+      call h5u_append(g, 'total', r%col(1:n))
+    end if
     call h5u_close_group(g)
     do k = 1, r%npairs
       call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)

@@ -58,6 +58,7 @@ contains
     class(j2_plastic_t), intent(inout) :: this
     this%name = 'J2 plasticity'
     this%nhist = J2_HIST
+    this%hist_dissipation = J2_WP
     this%linear = .false.
     call elastic_dmat(this%e, this%nu, .true., this%d2(:, :, 1))
     call elastic_dmat(this%e, this%nu, .false., this%d2(:, :, 2))

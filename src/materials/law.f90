@@ -35,8 +35,10 @@ module ictus_materials_law
     character(len=32) :: name = ''
     !> How the law is evaluated (set before `init` by whoever makes the law).
     type(kinematics_t) :: kin
-    !> History variables per quadrature point (0 for an elastic law).
+    !> History variables per quadrature point (0 for an elastic law), and which of them holds
+    !! the dissipated energy per unit reference volume (0: the law dissipates nothing).
     integer :: nhist = 0
+    integer :: hist_dissipation = 0
     !> The small-strain tangent at the reference state in 2D Voigt order (xx, yy, xy;
     !! engineering shear): (:, :, 1) plane strain, (:, :, 2) plane stress; set by every law's
     !! `init`. It gives the stiffness of the stable-step estimate at the start, and, for a

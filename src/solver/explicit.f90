@@ -34,7 +34,7 @@ module ictus_solver_explicit
       mass_steps_fused
   use ictus_solver_domain, only: domain_t
   use ictus_solver_internal_force, only: force_op_t, force_apply, force_energy, FORCE_ASSEMBLED, &
-      force_hist_shape
+      force_hist_shape, force_dissipation
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, between_steps, &
@@ -70,6 +70,8 @@ module ictus_solver_explicit
     real(dp), allocatable :: pw(:,:,:)
     !> Energies at time t_n of the last step that computed them.
     real(dp) :: e_kin = 0.0_dp, e_strain = 0.0_dp, e_contact = 0.0_dp, w_ext = 0.0_dp
+    !> Energy dissipated by the material laws (plastic work) up to t_n.
+    real(dp) :: e_plastic = 0.0_dp
     real(dp) :: e_time = 0.0_dp
     !> Work of external and damping forces from t = 0 to t_n, and the damping power at t_{n-1}.
     real(dp) :: w_acc = 0.0_dp
@@ -239,6 +241,7 @@ contains
     call mass_apply(mop, s%v_mid, s%mv)
     s%e_kin = 0.5_dp*repro_dot(s%nn, s%v_mid, s%mv, s%nglobal)
     s%e_strain = force_energy(fop, s%u, s%f)
+    s%e_plastic = force_dissipation(fop)
     s%w_ext = s%w_acc
     s%e_time = s%t
   end subroutine state_energies

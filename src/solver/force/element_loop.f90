@@ -19,7 +19,7 @@ module ictus_solver_force_element
   implicit none
   private
   public :: element_force_t, element_loop_init, element_loop_apply, element_loop_energy, &
-      element_loop_bytes
+      element_loop_bytes, element_loop_dissipation
 
   type :: element_force_t
     !> Elements of this rank (domain_t%elem order), their types, nodes, quadrature points and
@@ -39,8 +39,11 @@ module ictus_solver_force_element
     type(material_t), allocatable :: materials(:)
     !> History variables per point (nhist_max, ngp_max, nelem) and the largest nhist.
     integer :: nhist = 0
-    !> Strain energy of each element at the last apply, and of this rank's own elements.
-    real(dp), allocatable :: energy(:), eown(:)
+    !> Stored energy and dissipated energy (the laws' dissipation history integrated) of each
+    !! element at the last apply, and a work array for this rank's own elements.
+    real(dp), allocatable :: energy(:), dissipated(:), eown(:)
+    !> Whether any law dissipates.
+    logical :: dissipates = .false.
     !> Work arrays of one element.
     real(dp), allocatable :: ul(:,:), fe(:,:), hnew(:,:)
   end type element_force_t
@@ -68,8 +71,10 @@ contains
       el%nhist = max(el%nhist, model%materials(m)%law%nhist)
     end do
     allocate(el%etype(el%nelem), el%nen(el%nelem), el%ngp(el%nelem), el%mat(el%nelem), &
-        el%own(el%nelem), el%energy(el%nelem))
+        el%own(el%nelem), el%energy(el%nelem), el%dissipated(el%nelem))
     el%energy = 0.0_dp
+    el%dissipated = 0.0_dp
+    el%dissipates = any([(model%materials(m)%law%hist_dissipation > 0, m = 1, model%nmat)])
     el%conn = dom%conn
     el%elem = dom%elem(1:dom%nelem)
     allocate(el%dnx(model%ndm, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
@@ -125,6 +130,12 @@ contains
       end associate
       if (ierr /= 0 .and. el%inverted == 0) el%inverted = el%elem(k)
       if (el%nhist > 0) hist(:, 1:ngp, k) = el%hnew(:, 1:ngp)
+      if (el%dissipates) then
+        associate (idx => el%materials(el%mat(k))%law%hist_dissipation)
+          el%dissipated(k) = 0.0_dp
+          if (idx > 0) el%dissipated(k) = dot_product(hist(idx, 1:ngp, k), el%dvol(1:ngp, k))
+        end associate
+      end if
       do a = 1, nen
         i = el%conn(a, k)
         if (i <= nn) f(:, i) = f(:, i) + el%fe(:, a)
@@ -132,17 +143,33 @@ contains
     end do
   end subroutine element_loop_apply
 
-  !> Strain energy at the last apply: the sum over this rank's own elements, reproducible.
+  !> Stored energy at the last apply: the sum over this rank's own elements, reproducible.
   function element_loop_energy(el) result(e)
     type(element_force_t), intent(inout) :: el
+    real(dp) :: e
+    e = own_sum(el, el%energy)
+  end function element_loop_energy
+
+  !> Energy dissipated by the laws up to the last apply (0 where no law dissipates).
+  function element_loop_dissipation(el) result(e)
+    type(element_force_t), intent(inout) :: el
+    real(dp) :: e
+    e = 0.0_dp
+    if (el%dissipates) e = own_sum(el, el%dissipated)
+  end function element_loop_dissipation
+
+  !> The reproducible sum of v over this rank's own elements (each element counted once).
+  function own_sum(el, v) result(e)
+    type(element_force_t), intent(inout) :: el
+    real(dp), intent(in) :: v(:)
     real(dp) :: e
     integer :: k, j
     j = 0
     do k = 1, el%nelem
       if (.not. el%own(k)) cycle
       j = j + 1
-      el%eown(j) = el%energy(k)
+      el%eown(j) = v(k)
     end do
     e = repro_sum(j, el%eown, el%nglobal)
-  end function element_loop_energy
+  end function own_sum
 end module ictus_solver_force_element

@@ -18,11 +18,12 @@ module ictus_solver_internal_force
   use ictus_solver_force_assembled, only: assembled_force_t, assembled_init, assembled_apply, &
       assembled_energy
   use ictus_solver_force_element, only: element_force_t, element_loop_init, &
-      element_loop_apply, element_loop_energy, element_loop_bytes
+      element_loop_apply, element_loop_energy, element_loop_bytes, element_loop_dissipation
   implicit none
   private
   public :: force_op_t, force_op_init, force_apply, force_energy, force_kind_name, &
-      force_choice, force_hist_shape, FORCE_ASSEMBLED, FORCE_ELEMENT
+      force_choice, force_hist_shape, force_dissipation, force_dissipates, FORCE_ASSEMBLED, &
+      FORCE_ELEMENT
 
   type :: force_op_t
     !> FORCE_ASSEMBLED or FORCE_ELEMENT.
@@ -37,13 +38,14 @@ module ictus_solver_internal_force
 contains
 
   !> The implementation a model gets: the deck's choice, or for FORCE_AUTO the assembled K
-  !! where every material law is linear (small strain).
+  !! where every material law is linear and the strain small.
   integer function force_choice(model)
     type(model_t), intent(in) :: model
     integer :: m
     force_choice = model%force_kind
     if (force_choice /= FORCE_AUTO) return
     force_choice = FORCE_ASSEMBLED
+    if (model%nlgeom) force_choice = FORCE_ELEMENT
     do m = 1, model%nmat
       if (.not. model%materials(m)%law%linear) force_choice = FORCE_ELEMENT
     end do
@@ -99,6 +101,22 @@ contains
       e = assembled_energy(fop%nn, u, r, fop%nglobal)
     end if
   end function force_energy
+
+  !> Energy the material laws have dissipated up to the last `force_apply` (plastic work);
+  !! 0 for the assembled K.
+  function force_dissipation(fop) result(e)
+    type(force_op_t), intent(inout) :: fop
+    real(dp) :: e
+    e = 0.0_dp
+    if (fop%kind == FORCE_ELEMENT) e = element_loop_dissipation(fop%el)
+  end function force_dissipation
+
+  !> Whether any material law dissipates energy (then the energy balance has a plastic-work
+  !! term).
+  pure logical function force_dissipates(fop)
+    type(force_op_t), intent(in) :: fop
+    force_dissipates = fop%kind == FORCE_ELEMENT .and. fop%el%dissipates
+  end function force_dissipates
 
   !> Shape of the history array of the state, (nhist, quadrature points, elements); zero
   !! extents for the assembled K (which keeps none; the element loop sizes it even with
