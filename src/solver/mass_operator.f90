@@ -6,7 +6,7 @@
 !!   is made of tensor-product lattices whose mass that solver proves it solves exactly, and
 !!   to CHOLESKY otherwise (the log says which, and why).
 !! * MASS_SOLVER_KRONECKER: exact solves by 1D banded factors along the lattice directions of
-!!   NURBS patches and rectangular Q4/Q8/Q9 grids (ictus_solver_tensor_mass). Like the
+!!   NURBS patches and rectangular Q4/Q8/Q9 grids (ictus_solver_tensor_types). Like the
 !!   Cholesky factor it runs on every rank on the gathered f, so the bits do not depend on
 !!   the number of ranks; its memory is a few vectors.
 !! * MASS_SOLVER_CHOLESKY: M is factorised once (physics.md §4.1),
@@ -45,8 +45,10 @@ module ictus_solver_mass_operator
   use ictus_solver_domain, only: domain_t
   use ictus_solver_model, only: MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
-  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_mass_t, tensor_mass_setup, &
-      tensor_mass_solve, tensor_mass_step, tensor_mass_renumber, tensor_mass_describe
+  use ictus_solver_tensor_types, only: tensor_layout_t, tensor_mass_t
+  use ictus_solver_tensor_setup, only: tensor_mass_setup, tensor_mass_renumber, &
+      tensor_mass_describe
+  use ictus_solver_tensor_solve, only: tensor_mass_solve, tensor_mass_step
   implicit none
   private
   public :: mass_op_t, mass_op_init, mass_solve, mass_apply, mass_set_added, mass_step, &
@@ -117,7 +119,7 @@ contains
   !! MASS_SOLVER_* (default CG); `passes` the corrector's k (default 2). `ierr` (when
   !! present) is 0, or 1 when the Cholesky factor cannot be made (see `cholesky_init`) or the
   !! corrector meets a negative entry of M; without it such a failure is fatal. `layout`
-  !! (the model's lattices, ictus_solver_tensor_mass) is needed by MASS_SOLVER_KRONECKER and
+  !! (the model's lattices, ictus_solver_tensor_layout) is needed by MASS_SOLVER_KRONECKER and
   !! AUTO; without it they are refused (AUTO: the Cholesky factor).
   subroutine mass_op_init(op, dom, consistent, m, m_diag, fixed, rtol, solver, ierr, passes, &
       layout)
@@ -295,7 +297,7 @@ contains
     end do
   end subroutine gather_mass
 
-  !> The Kronecker solver of the gathered mass (ictus_solver_tensor_mass) on every rank.
+  !> The Kronecker solver of the gathered mass (ictus_solver_tensor_types) on every rank.
   !! err = 1 with `msg` when the mass is not what the lattices promise.
   subroutine kronecker_init(op, dom, layout, cnt, gid, row_ptr, col, val, keep, err, msg)
     type(mass_op_t), intent(inout) :: op
