@@ -23,7 +23,7 @@ module ictus_app_driver
       mass_overflow_element
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, &
-      mass_steps_fused, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
+      mass_steps_fused, mass_op_report, MASS_SOLVER_CG, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
@@ -414,7 +414,7 @@ contains
     logical, allocatable :: was_active(:)
     logical :: record, field, ok, stop_now, tuning
     type(checkpoint_t) :: ck
-    character(len=:), allocatable :: ckpt, deck_text, msg, wmsg
+    character(len=:), allocatable :: ckpt, deck_text, msg, wmsg, line
     integer :: n_start, n_first, n_last
     integer :: k
     logical, allocatable :: sync(:)
@@ -582,17 +582,8 @@ contains
     call report_energy(s, e0)
     if (failures > 0) call warning('contact', str(int(failures))//' closest-point '// &
         'projections failed during the run (those points were treated as open)')
-    if (mop%consistent .and. mop%solver == MASS_SOLVER_CG) call log_info('consistent mass: '// &
-        str(mop%n_solves)//' solves, mean '// &
-        str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
-        ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
-    if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
-        'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
-    if (mop%consistent .and. mop%solver == MASS_SOLVER_KRONECKER) call log_info( &
-        'consistent mass: '//str(mop%n_solves)//' solves along the lattice directions')
-    if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) call log_info( &
-        'consistent mass: '//str(mop%n_solves)//' approximate solves of '// &
-        str(mop%passes)//' corrector passes')
+    line = mass_op_report(mop)
+    if (len(line) > 0) call log_info(line)
     call log_info('wall time: '//str(wall_time() - t0, 4)//' s for '//str(nsteps - n_start)// &
         ' steps')
     call results_close(res, 'completed')

@@ -19,7 +19,7 @@
 !!
 !! Every stage is sequential and has a fixed operation order, so a factor and a solve are the
 !! same bits wherever they run; the caller decides which rank runs them (see
-!! ictus_solver_mass_operator). `chol_solve` allocates nothing (the caller gives its work).
+!! ictus_solver_mass_cholesky). `chol_solve` allocates nothing (the caller gives its work).
 module ictus_solver_cholesky
   use ictus_core_kinds, only: dp, i8
   use ictus_parallel_partition, only: nested_dissection

@@ -1,4 +1,4 @@
-!> MASS SOLVER=KRONECKER (ictus_solver_tensor_solve) against a dense LAPACK solve of the
+!> MASS SOLVER=KRONECKER (ictus_solver_mass_kronecker) against a dense LAPACK solve of the
 !! assembled consistent mass on its free dofs, model by model from decks written here:
 !!
 !! * Q8, Q9 and Q4 grids with graded spacing and nodes numbered against the lattice, NURBS
