@@ -4,8 +4,8 @@
 !! A solver is a type that extends `mass_solver_t` (one file per solver in this folder). Its
 !! set-up is a module procedure of its own file that takes what that solver needs, allocates
 !! the operator's `class(mass_solver_t)` as its type, fills the shared `inv_diag` and `free`
-!! (`core_diagonal`) and its own fields; `mass_op_init` calls it in one line of its
-!! `select case`. The operator then calls `solve`, `apply`, `report` (and `fused`, `step`)
+!! (`core_diagonal`; a consistent solver by `consistent_setup`, which also keeps M) and its
+!! own fields; `mass_op_init` calls it in one line of its `select case`. The operator then calls `solve`, `apply`, `report` (and `fused`, `step`)
 !! once per call, so a solver sees whole vectors and the dispatch costs nothing per node.
 module ictus_solver_mass_solver
   use ictus_core_kinds, only: dp
