@@ -37,7 +37,7 @@ program ictus_bench
   use ictus_parallel_env, only: env_init, env_finalize, env_is_root, env_size, allreduce_max, &
       allreduce_sum, barrier
   use ictus_solver_model, only: model_t
-  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
+  use ictus_solver_tensor_layout, only: tensor_layout_t, tensor_layout
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_assemble, only: operators_t, assemble_operators
   use ictus_solver_sparse, only: bsr_matvec

@@ -16,7 +16,7 @@ module ictus_app_driver
   use ictus_elements_library, only: etype_name
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
-  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
+  use ictus_solver_tensor_layout, only: tensor_layout_t, tensor_layout
   use ictus_solver_assemble, only: operators_t, assemble_operators, check_jacobians, &
       mass_overflow_element
   use ictus_solver_domain, only: domain_t, domain_init

@@ -17,8 +17,7 @@ module ictus_app_time_loop
   use ictus_solver_model, only: model_t
   use ictus_solver_assemble, only: operators_t
   use ictus_solver_domain, only: domain_t
-  use ictus_solver_mass_operator, only: mass_op_t, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
-      MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
+  use ictus_solver_mass_operator, only: mass_op_t, mass_op_report
   use ictus_solver_explicit, only: state_t
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
       stepper_advance
@@ -290,6 +289,7 @@ contains
     type(loop_t), intent(in) :: lp
     type(stepper_t), intent(in) :: stp
     real(dp) :: e1, drift
+    character(len=:), allocatable :: line
     e1 = total_energy(stp%s)
     drift = 0.0_dp
     if (abs(lp%e0) > 0.0_dp) drift = (e1 - lp%e0)/abs(lp%e0)
@@ -300,17 +300,8 @@ contains
           '); drift '//str(drift, 3))
       if (stp%failures > 0) call warning('contact', str(int(stp%failures))//' closest-'// &
           'point projections failed during the run (those points were treated as open)')
-      if (mop%consistent .and. mop%solver == MASS_SOLVER_CG) call log_info('consistent '// &
-          'mass: '//str(mop%n_solves)//' solves, mean '// &
-          str(real(mop%total_iter, dp)/max(1, mop%n_solves), 3)// &
-          ' CG iterations per solve (relative residual '//str(mop%rtol)//')')
-      if (mop%consistent .and. mop%solver == MASS_SOLVER_CHOLESKY) call log_info( &
-          'consistent mass: '//str(mop%n_solves)//' solves with the Cholesky factor')
-      if (mop%consistent .and. mop%solver == MASS_SOLVER_KRONECKER) call log_info( &
-          'consistent mass: '//str(mop%n_solves)//' solves along the lattice directions')
-      if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) call log_info( &
-          'consistent mass: '//str(mop%n_solves)//' approximate solves of '// &
-          str(mop%passes)//' corrector passes')
+      line = mass_op_report(mop)
+      if (len(line) > 0) call log_info(line)
     end associate
     call log_info('wall time: '//str(wall_time() - lp%t0, 4)//' s for '// &
         str(stp%s%step)//' steps')

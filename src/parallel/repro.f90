@@ -15,7 +15,7 @@ module ictus_parallel_repro
   public :: repro_sum, repro_dot, repro_sigma, repro_totals, levels
 
   !> Number of pre-rounding levels. Kernels that fold a reproducible sum into their own loop
-  !! (the conjugate gradient of ictus_solver_mass_operator) extract, for each term t,
+  !! (the conjugate gradient of ictus_solver_mass_cg) extract, for each term t,
   !! q = (t + sigma(k)) - sigma(k); part(k) += q; t = t - q for k = 1..levels, with sigma
   !! from `repro_sigma`, and finish with `repro_totals`.
   integer, parameter :: levels = 3

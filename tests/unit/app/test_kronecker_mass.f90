@@ -1,4 +1,4 @@
-!> MASS SOLVER=KRONECKER (ictus_solver_tensor_mass) against a dense LAPACK solve of the
+!> MASS SOLVER=KRONECKER (ictus_solver_mass_kronecker) against a dense LAPACK solve of the
 !! assembled consistent mass on its free dofs, model by model from decks written here:
 !!
 !! * Q8, Q9 and Q4 grids with graded spacing and nodes numbered against the lattice, NURBS
@@ -26,7 +26,7 @@ program test_kronecker_mass
       bsr_matvec_ordered, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_step, &
       mass_steps_fused
-  use ictus_solver_tensor_mass, only: tensor_layout_t, tensor_layout
+  use ictus_solver_tensor_layout, only: tensor_layout_t, tensor_layout
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_reader, only: read_deck
   use ictus_app_build_model, only: build_model
@@ -121,7 +121,7 @@ contains
     character(len=*), intent(in), optional :: reason, asked
     logical, intent(in), optional :: across
     character(len=*), parameter :: path = 'test_kronecker_mass.inp'
-    integer :: u, s, n1, n2, nb, blk, i, j, k, nn, a, b, e, ne, np, idx
+    integer :: u, s, n1, n2, nb, blk, i, j, k, nn, a, b, ne, np, idx
     integer, allocatable :: id(:,:,:)
     real(dp) :: x, y, c, sn, x0
     logical :: off, two

@@ -19,7 +19,7 @@
 !!
 !! Every stage is sequential and has a fixed operation order, so a factor and a solve are the
 !! same bits wherever they run; the caller decides which rank runs them (see
-!! ictus_solver_mass_operator). `chol_solve` allocates nothing (the caller gives its work).
+!! ictus_solver_mass_cholesky). `chol_solve` allocates nothing (the caller gives its work).
 module ictus_solver_cholesky
   use ictus_core_kinds, only: dp, i8
   use ictus_parallel_partition, only: nested_dissection
@@ -106,12 +106,11 @@ contains
     integer, intent(in) :: row_ptr(n + 1), col(*), order(n)
     integer, intent(out) :: ierr
     integer, intent(in), optional :: ntail
-    integer, allocatable :: parent(:), anc(:), post(:), head(:), next(:), stack(:), cc(:), &
-        nch(:), col2sup(:), smark(:), relabel(:), sizes(:)
+    integer, allocatable :: parent(:), anc(:), cc(:), nch(:), col2sup(:), smark(:), sizes(:)
     integer(i8), allocatable :: fillp(:)
     integer, allocatable :: snr(:)
     integer(i8) :: nr, nc, m, top, peak
-    integer :: i, j, jn, k, p, s, r, nst, cnt, nsup
+    integer :: i, j, k, p, s, nst, nsup
     ierr = 0
     ch%n = n
     ch%nfac = nfac
@@ -120,70 +119,7 @@ contains
     ch%order = order
     call invert(n, ch%order, ch%inv)
 
-    ! elimination tree (Liu, with path compression through anc)
-    parent = 0
-    anc = 0
-    do k = 1, n
-      i = ch%order(k)
-      do p = row_ptr(i), row_ptr(i + 1) - 1
-        j = ch%inv(col(p))
-        if (j >= k) cycle
-        do
-          jn = anc(j)
-          if (jn == k) exit
-          anc(j) = k
-          if (jn == 0) then
-            parent(j) = k
-            exit
-          end if
-          j = jn
-        end do
-      end do
-    end do
-
-    ! postorder (children in ascending order), then relabel order, inv and parent
-    allocate(head(n), next(n), stack(n), post(n), relabel(n))
-    head = 0
-    next = 0
-    do k = n, 1, -1
-      if (parent(k) > 0) then
-        next(k) = head(parent(k))
-        head(parent(k)) = k
-      end if
-    end do
-    cnt = 0
-    do r = 1, n
-      if (parent(r) /= 0) cycle
-      nst = 1
-      stack(1) = r
-      do while (nst > 0)
-        j = stack(nst)
-        if (head(j) /= 0) then
-          k = head(j)
-          head(j) = next(k)
-          nst = nst + 1
-          stack(nst) = k
-        else
-          nst = nst - 1
-          cnt = cnt + 1
-          post(cnt) = j
-        end if
-      end do
-    end do
-    do k = 1, n
-      relabel(post(k)) = k
-    end do
-    anc = ch%order
-    do k = 1, n
-      ch%order(k) = anc(post(k))
-    end do
-    call invert(n, ch%order, ch%inv)
-    anc = parent
-    do k = 1, n
-      parent(k) = 0
-      if (anc(post(k)) > 0) parent(k) = relabel(anc(post(k)))
-    end do
-    deallocate(head, next, stack, post, relabel)
+    call etree_postorder(ch, n, row_ptr, col, parent)
 
     ! column counts (diagonal included) by row subtrees: row k of L has its non-zeros on the
     ! tree paths from the pivots of row k of A up to k
@@ -305,6 +241,83 @@ contains
     end do
     ch%stack_size = peak
   end subroutine chol_analyse
+
+  !> The elimination tree of the pattern (row_ptr, col) in the pivot order ch%order (Liu,
+  !! with path compression), then its postorder (children in ascending order, the same fill,
+  !! and the columns of a supernode become consecutive): ch%order, ch%inv relabelled, and
+  !! parent(k) the parent pivot of pivot k in the new order (0 for a root).
+  subroutine etree_postorder(ch, n, row_ptr, col, parent)
+    type(chol_t), intent(inout) :: ch
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    integer, intent(out) :: parent(n)
+    integer, allocatable :: anc(:), post(:), head(:), next(:), stack(:), relabel(:)
+    integer :: i, j, jn, k, p, r, nst, cnt
+    allocate(anc(n))
+    parent = 0
+    anc = 0
+    do k = 1, n
+      i = ch%order(k)
+      do p = row_ptr(i), row_ptr(i + 1) - 1
+        j = ch%inv(col(p))
+        if (j >= k) cycle
+        do
+          jn = anc(j)
+          if (jn == k) exit
+          anc(j) = k
+          if (jn == 0) then
+            parent(j) = k
+            exit
+          end if
+          j = jn
+        end do
+      end do
+    end do
+
+    ! postorder (children in ascending order), then relabel order, inv and parent
+    allocate(head(n), next(n), stack(n), post(n), relabel(n))
+    head = 0
+    next = 0
+    do k = n, 1, -1
+      if (parent(k) > 0) then
+        next(k) = head(parent(k))
+        head(parent(k)) = k
+      end if
+    end do
+    cnt = 0
+    do r = 1, n
+      if (parent(r) /= 0) cycle
+      nst = 1
+      stack(1) = r
+      do while (nst > 0)
+        j = stack(nst)
+        if (head(j) /= 0) then
+          k = head(j)
+          head(j) = next(k)
+          nst = nst + 1
+          stack(nst) = k
+        else
+          nst = nst - 1
+          cnt = cnt + 1
+          post(cnt) = j
+        end if
+      end do
+    end do
+    do k = 1, n
+      relabel(post(k)) = k
+    end do
+    anc = ch%order
+    do k = 1, n
+      ch%order(k) = anc(post(k))
+    end do
+    call invert(n, ch%order, ch%inv)
+    anc = parent
+    do k = 1, n
+      parent(k) = 0
+      if (anc(post(k)) > 0) parent(k) = relabel(anc(post(k)))
+    end do
+    deallocate(head, next, stack, post, relabel)
+  end subroutine etree_postorder
 
   !> Relaxed supernodes: a supernode joins the group of the one before it when that one is
   !! its child (the child's rows below its diagonal block are then all rows of the parent)
