@@ -9,7 +9,7 @@
 !!   NURBS patches and rectangular Q4/Q8/Q9 grids (ictus_solver_tensor_mass). Like the
 !!   Cholesky factor it runs on every rank on the gathered f, so the bits do not depend on
 !!   the number of ranks; its memory is a few vectors.
-!! * MASS_SOLVER_CHOLESKY: M is factorised once (physics.md §4.1),
+!! * MASS_SOLVER_CHOLESKY: M is factorised once (doc/theory.md §5),
 !!   sparse Cholesky in METIS nested-dissection order (ictus_solver_cholesky). Every rank
 !!   holds the factor of the whole M and solves the whole system after an allgather of f, so
 !!   the solution is the same bits on any number of ranks; the memory of the factor does not
@@ -19,7 +19,7 @@
 !!   the search direction's ghost values come by halo exchange and the dot products are
 !!   reproducible global sums, so the iterates are the same bits on any number of ranks.
 !! * MASS_SOLVER_CORRECTOR: a fixed number k of passes x <- x + D^-1 (f - M x) from
-!!   x = D^-1 f, with D the row sums of M (predictor/multi-corrector, physics.md §3.4). This is
+!!   x = D^-1 f, with D the row sums of M (predictor/multi-corrector, doc/theory.md §5.1). This is
 !!   not a converged solve but a fixed approximate inverse M_k^-1 = sum_{j=0..k}
 !!   (I - D^-1 M)^j D^-1: symmetric, between D^-1 and M^-1 in the Loewner order when M has no
 !!   negative entries (then the eigenvalues of D^-1 M lie in (0, 1]), so it is positive
@@ -464,7 +464,7 @@ contains
   end function mass_min_entry
 
   !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
-  !! (bipenalty, physics.md 4.6): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
+  !! (bipenalty, doc/contact.md §6a): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
   !! 1/m_i. Massless nodes and fixed dofs keep 0; m_diag (the kinetic energy and mass_apply)
   !! is not changed. Does nothing for a consistent mass.
   !! @param op operator; @param i owned node (1..nn); @param dm added mass
