@@ -8,7 +8,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 out=${RESULTS_DIR:-$here/results}
 mkdir -p "$out"
 ictus="${BUILD_DIR:-$here/build}/bin/ictus"
-# The dynamic Hertz benchmark (physics.md §1, doc/verification.md): IGA p = 2 and FEA Q8, both
+# The dynamic Hertz benchmark (doc/reference.md §1, doc/verification.md): IGA p = 2 and FEA Q8, both
 # with HRZ mass, 8 x 8, dt = 5e-4, T = 0.9. Results files, logs, the comparison table and the
 # Fig. 3 plot (contact force and maximal pressure against the quasi-static Hertz model) go to
 # $out/hertz; the table is printed.

@@ -5,7 +5,7 @@
             [--first-element 1] [--elset BODY] [--material STEEL] [--distort 0.0] > mesh.inp
 
 Node sets: LEFT, RIGHT, BOTTOM, TOP (edges), CORNER_LL/LR/UL/UR, plus the ELSET. Element
-nodes follow deck-format.md (corners counter-clockwise, then midsides, then the centre).
+nodes follow doc/user-guide.md §4 (corners counter-clockwise, then midsides, then the centre).
 --distort d moves every interior vertex node by a deterministic pseudo-random offset of up to
 d times the element size (midside nodes stay at the middle of straight edges), for patch tests.
 0 <= d < 0.25 keeps every element valid: each is the bilinear map of its corners, whose edges,

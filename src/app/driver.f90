@@ -101,7 +101,7 @@ contains
     end if
     call log_info('stability: omega_max = '//str(omega)//' (Lanczos-accelerated power '// &
         'iteration, '//str(iters)//' steps), critical time step 2/omega_max = '//str(dt_crit))
-    ! the penalty limit of the predictor-corrector scheme (physics.md §4.4-4.5): the contact
+    ! the penalty limit of the predictor-corrector scheme (doc/contact.md §6): the contact
     ! ratio r = dt^2 eps (l_s/m_s + l_m/m_m) grows like dt^2; automatic steps keep r <= 1/2
     dt_pen = huge(1.0_dp)
     if (contact%npairs > 0) then
@@ -151,7 +151,7 @@ contains
       call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
           ' at the start ('//trim(where)//')')
       if (r1 > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r1, 4)// &
-          ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; physics.md §4.4 '// &
+          ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; doc/contact.md §6 '// &
           'puts the limit of the predictor-corrector penalty at r = 1)')
     end if
     call check_viz_memory(deck, model, dom)

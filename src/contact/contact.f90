@@ -1,6 +1,6 @@
 !> All contact of a model: surfaces, contact pairs and rigid walls, and the two calls the
 !! time step makes: `contact_forces` (penalty forces on predicted coordinates) and
-!! `contact_stability` (the predictor-corrector penalty stability ratio, physics.md 4.4).
+!! `contact_stability` (the predictor-corrector penalty stability ratio, doc/contact.md §6).
 !!
 !! Set-up: `contact_init(c, nsurf, npairs)`, then `surface_init` on each c%surfaces(i),
 !! `contact_define_pair` / `contact_define_wall` for each c%pairs(k), then `contact_setup(c)`.
@@ -116,7 +116,7 @@ contains
   !! entries are left untouched; zero the array once before the first call);
   !! @param energy penalty energy: sum over points of 1/2 eps gp^2 w J (TWO HALF PASS: the
   !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s);
-  !! @param dm optional (nn): the bipenalty masses (physics.md 4.6) of the active points of
+  !! @param dm optional (nn): the bipenalty masses (doc/contact.md §6a) of the active points of
   !! the pairs with eps_m > 0, zeroed on the surface nodes and accumulated like fc
   subroutine contact_forces(c, nn, x, fc, energy, dm)
     type(contact_t), intent(inout) :: c
@@ -164,7 +164,7 @@ contains
   end function contact_failures
 
   !> Predictor-corrector penalty stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) over the
-  !! nodes of the contact surfaces (physics.md 4.4-4.5): l_s/m_s of the node, l_m/m_m the
+  !! nodes of the contact surfaces (doc/contact.md §6): l_s/m_s of the node, l_m/m_m the
   !! master's l/m interpolated as sum_A |R_A| l_A/m_A at the node's closest point (the largest
   !! master l/m when the node has no closest point within the search radius); a rigid wall
   !! has only the slave term. Both surfaces of a TWO HALF PASS pair act as slave in turn.

@@ -1,5 +1,5 @@
 !> Contact pairs and rigid walls: definition, results, and the penalty force algorithms
-!! TWO HALF PASS and NODE TO SEGMENT (physics.md sections 5.1, 5.3, 5.4).
+!! TWO HALF PASS and NODE TO SEGMENT (doc/contact.md §3-5).
 !!
 !! * TWO HALF PASS: the Gauss points of each surface are projected onto the other; a point
 !!   with penetration gp > 0 gets the traction eps gp n (n: outward normal of the other
@@ -30,7 +30,7 @@ module ictus_contact_pair
     character(len=str_len) :: name = ''
     !> PAIR_* kind, penalty eps_N, bipenalty mass penalty from the deck (< 0: none,
     !! 0: AUTO, > 0: eps_m), and the mass penalty eps_m in use (0: none; set by the time
-    !! step from mass_penalty, physics.md 4.6).
+    !! step from mass_penalty, doc/contact.md §6a).
     integer :: kind = PAIR_TWO_HALF_PASS
     real(dp) :: penalty = 0.0_dp
     real(dp) :: mass_penalty = -1.0_dp

@@ -1,4 +1,4 @@
-!> Closest-point projection of a point onto a contact surface (physics.md section 5.2).
+!> Closest-point projection of a point onto a contact surface (doc/contact.md §3).
 !!
 !! On one segment, f(t) = (x_s - x(t)).x'(t) = 0 is solved for t in [0, 1] by a safeguarded
 !! Newton iteration: start at the nearest of 5 samples; Newton steps only where

@@ -2,7 +2,7 @@
 !!
 !! On the element, N = (C2 (x) C1) B with B the tensor-product Bernstein polynomials of the
 !! local variables t_i = (xi~_i + 1)/2, and R_A = w_A N_A / W, W = sum w_B N_B = w_b . B with
-!! w_b = C^T w (physics.md §7.1). Derivatives are taken with respect to the parent
+!! w_b = C^T w (doc/iga.md §3). Derivatives are taken with respect to the parent
 !! coordinates (xi~, eta~) in [-1, 1]^2, so the standard solid element routine
 !! (J = sum dR/dxi~ x_A) integrates over the physical span exactly.
 module ictus_elements_iga

@@ -1,6 +1,6 @@
 !> Shape functions of the Lagrange/serendipity quadrilaterals Q4, Q8 (serendipity) and Q9.
 !!
-!! Local node order (deck-format.md, *ELEMENT): corners counter-clockwise at (-1,-1), (1,-1),
+!! Local node order (doc/user-guide.md §4, *ELEMENT): corners counter-clockwise at (-1,-1), (1,-1),
 !! (1,1), (-1,1); then midsides 5 (on 1-2), 6 (on 2-3), 7 (on 3-4), 8 (on 4-1); then the
 !! centre 9 (Q9 only). Face k runs from corner k to corner k+1 (corner 4 to corner 1 for k = 4).
 module ictus_elements_lagrange

@@ -2,7 +2,7 @@
 !!
 !! Control points are stored as cp(3, :) = (x, y, w) with the weight NOT multiplied in; for a
 !! surface the direction-1 index runs fastest (cp(:, i1 + (i2-1)*n1)). Formulas of
-!! physics.md §7.2: R_A = w_A N_A / W, W = sum w_B N_B, R'_A = w_A (N'_A W - N_A W')/W^2.
+!! doc/iga.md §10.2: R_A = w_A N_A / W, W = sum w_B N_B, R'_A = w_A (N'_A W - N_A W')/W^2.
 module ictus_geometry_nurbs
   use ictus_core_kinds, only: dp
   use ictus_geometry_bspline, only: find_span, ders_basis_funs

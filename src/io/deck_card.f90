@@ -1,4 +1,4 @@
-!> The card being read and the helpers every card reader shares (deck-format.md).
+!> The card being read and the helpers every card reader shares (doc/user-guide.md §3).
 !!
 !! `read_deck` (ictus_io_deck_reader) hands each card to one routine `read_<card>` as a
 !! `card_t` (its keyword line and the range of its data lines), together with the `reader_t`

@@ -1,4 +1,4 @@
-!> Readers of the condition cards (deck-format.md): *BOUNDARY (prescribed displacements) and
+!> Readers of the condition cards (doc/user-guide.md §5): *BOUNDARY (prescribed displacements) and
 !! *INITIAL CONDITIONS, TYPE=VELOCITY. Each data line names a node set or a node id; the
 !! names are resolved by `check_deck` (ictus_io_deck_checks), the nodes by `app/build_model`.
 module ictus_io_deck_conditions

@@ -1,4 +1,4 @@
-!> Readers of the contact cards (deck-format.md, contact.md): *CONTACT PAIR (two surfaces,
+!> Readers of the contact cards (doc/user-guide.md §5, doc/contact.md): *CONTACT PAIR (two surfaces,
 !! penalty, algorithm) and *RIGID WALL (a surface against a fixed line). The surfaces they
 !! name are resolved by `check_deck` (ictus_io_deck_checks), the contact itself is built by
 !! `app/build_contact`.

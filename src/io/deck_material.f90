@@ -1,4 +1,4 @@
-!> Readers of the material and mass cards (deck-format.md): *MATERIAL with its *ELASTIC and
+!> Readers of the material and mass cards (doc/user-guide.md §4-5): *MATERIAL with its *ELASTIC and
 !! *DENSITY, then *MASS (the mass matrix and its lumping) and *DAMPING (mass-proportional
 !! damping), both for the whole model or one body (ELSET= or PATCH=).
 !!

@@ -1,5 +1,5 @@
 !> Readers of the model cards of the finite-element mesh and of the names defined on it
-!! (deck-format.md): *HEADING, *ANALYSIS, *NODE, *ELEMENT, *NSET, *ELSET and *SURFACE.
+!! (doc/user-guide.md §4-5): *HEADING, *ANALYSIS, *NODE, *ELEMENT, *NSET, *ELSET and *SURFACE.
 !!
 !! Each `read_<card>` checks its parameters, converts its data lines and appends records to
 !! the deck (`app/build_model` and `app/build_contact` turn them into the model and the

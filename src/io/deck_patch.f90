@@ -1,4 +1,4 @@
-!> Readers of the NURBS patch cards (deck-format.md, iga.md): *PATCH opens a patch, the
+!> Readers of the NURBS patch cards (doc/user-guide.md §4, doc/iga.md): *PATCH opens a patch, the
 !! *KNOTS and *CONTROL POINTS that follow it fill it in, and *ELEVATE / *REFINE record a
 !! refinement of a named patch.
 !!

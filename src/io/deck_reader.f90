@@ -1,4 +1,4 @@
-!> Reads an input deck (deck-format.md) into a `deck_t`, reporting every problem found.
+!> Reads an input deck (doc/user-guide.md) into a `deck_t`, reporting every problem found.
 !!
 !! How it works:
 !! 1. `load_deck` (ictus_io_deck_lexer) turns the file and its *INCLUDEs into logical lines.
@@ -250,7 +250,7 @@ contains
       call read_end_step(c, rd, d)
     case default
       call input_error(c%where, 'unknown card '//shown(c%label)//' (expected one of the '// &
-          'cards of deck-format.md, e.g. *NODE, *ELEMENT, *PATCH, *STEP)')
+          'cards of doc/user-guide.md §4-6, e.g. *NODE, *ELEMENT, *PATCH, *STEP)')
     end select
   end subroutine read_card
 

@@ -1,4 +1,4 @@
-!> Readers of the step cards (deck-format.md): *STEP opens the single step, *DYNAMIC, EXPLICIT
+!> Readers of the step cards (doc/user-guide.md §6): *STEP opens the single step, *DYNAMIC, EXPLICIT
 !! sets its time step, end time and mass solver, *OUTPUT sets the history and field output,
 !! *RESTART the checkpoints, and *END STEP closes it.
 !!

@@ -1,4 +1,4 @@
-!> The results file (layout: doc/results.md, after ../shared/reference/results-format.md).
+!> The results file (layout version 1: doc/results.md).
 !!
 !! One HDF5 file per run, written while the run goes on: the model once, history records
 !! buffered and appended in blocks, field snapshots as they come, and a flush after each

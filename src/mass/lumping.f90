@@ -1,4 +1,4 @@
-!> Diagonal (lumped) element mass matrices from the scalar consistent mass (physics.md §3).
+!> Diagonal (lumped) element mass matrices from the scalar consistent mass (doc/theory.md §3).
 !!
 !! All routines work on the scalar mass per node; the same value applies to x and y.
 module ictus_mass_lumping
@@ -35,7 +35,7 @@ contains
     end if
   end subroutine lump_hrz
 
-  !> The alpha-family for Q8 (physics.md §3.2): corners 1-4 get (1/4 - alpha) m, midsides 5-8
+  !> The alpha-family for Q8 (doc/theory.md §3): corners 1-4 get (1/4 - alpha) m, midsides 5-8
   !! get alpha m. mass_e: element mass m; alpha: midside fraction; ml(8): lumped masses.
   pure subroutine lump_alpha_q8(mass_e, alpha, ml)
     real(dp), intent(in) :: mass_e, alpha

@@ -1,7 +1,7 @@
 !> Isotropic linear elasticity in 2D: the constitutive matrix and the elastic wave speeds.
 !!
 !! Voigt order (xx, yy, xy) with the engineering shear strain gamma_xy = du/dy + dv/dx, so
-!! sigma = D eps with eps = (eps_xx, eps_yy, gamma_xy). See physics.md §1.3.
+!! sigma = D eps with eps = (eps_xx, eps_yy, gamma_xy). See doc/theory.md §1.
 module ictus_materials_elastic
   use ictus_core_kinds, only: dp
   implicit none

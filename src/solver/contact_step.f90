@@ -1,4 +1,4 @@
-!> The contact correction of the predictor-corrector step (physics.md §4.1):
+!> The contact correction of the predictor-corrector step (doc/theory.md §4):
 !!
 !!     u_pre = u_n + dt v_pre,   a_cor = M^-1 F_c(u_pre),   v_{n+1/2} = v_pre + dt a_cor
 !!
@@ -8,7 +8,7 @@
 !! applies those of its owned nodes. So the result does not depend on the partition, and the
 !! cost and the communication are proportional to the contact surface, not to the mesh.
 !!
-!! Bipenalty (physics.md 4.6, lumped mass only): pairs with a mass penalty eps_m > 0 add, at
+!! Bipenalty (doc/contact.md §6a, lumped mass only): pairs with a mass penalty eps_m > 0 add, at
 !! each active contact point, eps_m times the absolute row sums of the point's constraint
 !! rows to the lumped masses of its nodes (see doc/contact.md). The added masses of the
 !! active set found on u_pre are used by the correction of this step and by the predictor
@@ -83,7 +83,7 @@ contains
     allocate(cs%dm_node(cs%ncn), source=0.0_dp)
   end subroutine contact_step_init
 
-  !> Sets the mass penalty eps_m of each *CONTACT PAIR with MASS PENALTY (physics.md 4.6):
+  !> Sets the mass penalty eps_m of each *CONTACT PAIR with MASS PENALTY (doc/contact.md §6a):
   !! the given value, or for AUTO eps_m = eps_N/beta with beta = min(omega0^2, 1/(2 dt^2)).
   !! beta <= omega0^2 keeps the critical step of the model without contact (mediant bound);
   !! beta <= 1/(2 dt^2) keeps the predictor-corrector ratio r = dt^2 eps (l_s/m_s + l_m/m_m)
@@ -255,7 +255,7 @@ contains
     end if
   end subroutine predicted_forces
 
-  !> The stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of physics.md §4.4 on the current
+  !> The stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of doc/contact.md §6 on the current
   !! coordinates (u: local displacements) with the positive lumped masses m_pos (local).
   subroutine contact_ratio(cs, c, x0, u, m_pos, dt, r, where)
     type(contact_step_t), intent(inout) :: cs
@@ -278,8 +278,8 @@ contains
   end subroutine contact_ratio
 
   !> omega_max with the contact active: power iteration on (M + D)^-1 (K + K_p) at the
-  !! configuration x0 + u (physics.md 4.2, 4.4, 4.6). K_p x is applied matrix-free as minus
-  !! the finite difference (F_c(x_u + h x) - F_c(x_u))/h of the contact forces, with
+  !! configuration x0 + u (doc/theory.md §7, doc/contact.md §6, §6a). K_p x is applied
+  !! matrix-free as minus the finite difference (F_c(x_u + h x) - F_c(x_u))/h of the contact forces, with
   !! h = 1e-4 times the largest penetration (|x| = 1), small enough not to change the active
   !! set of a flat interface; D are the bipenalty added masses of the active points at x_u
   !! (0 without bipenalty). Lumped mass only (a consistent mass returns omega = -1).

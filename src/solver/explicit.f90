@@ -1,4 +1,4 @@
-!> One central-difference step in the predictor-corrector form of physics.md §4.1:
+!> One central-difference step in the predictor-corrector form of doc/theory.md §4:
 !!
 !!     a_pre   = M^-1 (R_n - K u_n)              (with mass-proportional damping, see below)
 !!     v_pre   = v_{n-1/2} + dt a_pre

@@ -1,5 +1,5 @@
 !> Critical time step: the largest natural frequency omega_max of M^-1 K by power iteration
-!! (physics.md §4.2). Central differences are stable for dt <= 2/omega_max.
+!! (doc/theory.md §7). Central differences are stable for dt <= 2/omega_max.
 module ictus_solver_timestep
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ictus_core_kinds, only: dp, i8

@@ -1,4 +1,4 @@
-!> The half-disc patch of physics.md §7.4 (R = 4 by default), shared by the geometry and
+!> The half-disc patch of doc/iga.md §10.4 (R = 4 by default), shared by the geometry and
 !! element tests.
 module ictus_test_halfdisc
   use ictus_core_kinds, only: dp, pi
@@ -10,7 +10,7 @@ module ictus_test_halfdisc
 contains
 
   !> One biquadratic patch for the half-disc x >= 0 centred at the origin, in the (xi, eta)
-  !! order of the §7.4 table (det J < 0 in that order).
+  !! order of the doc/iga.md §10.4 table (det J < 0 in that order).
   subroutine half_disc(patch, radius)
     type(patch_t), intent(inout) :: patch
     real(dp), intent(in), optional :: radius

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """1D wave in a bar (plane stress, nu = 0) against the exact solution by characteristics.
 
-A bar [0, L] moving at -v0 along its axis is held at x = 0 from t = 0 on (physics.md §6.1 with
+A bar [0, L] moving at -v0 along its axis is held at x = 0 from t = 0 on (doc/reference.md §3.1 with
 a bilateral constraint, identical to the Signorini problem for t < 2L/c). The exact solution:
   t <= L/c:          u = -v0 min(t, x/c)
   L/c <= t <= 2L/c:  u = -v0 x/c for x <= 2L - ct, u = v0 (t - 2L/c) beyond.

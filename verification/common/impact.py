@@ -1,6 +1,6 @@
 """Helpers of the contact verification cases: 1D-like bars (Q8 or p = 2 NURBS, plane stress,
-nu = 0) and the analysis of a contact force history against the exact impact of physics.md
-§6.1-6.2 (plateau force, contact duration, impulse)."""
+nu = 0) and the analysis of a contact force history against the exact impact of doc/reference.md
+§3.1-3.2 (plateau force, contact duration, impulse)."""
 import re
 
 import numpy as np

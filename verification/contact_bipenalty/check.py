@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""Bipenalty (physics.md §4.6) on the two-bar impact of physics.md §6.2: a very stiff penalty
-(eps_hat = eps h / E = 1e3) at the time step of the bulk.
+"""Bipenalty (doc/contact.md §6a) on the two-bar impact of doc/reference.md §3.2: a very stiff
+penalty (eps_hat = eps h / E = 1e3) at the time step of the bulk.
 
 The decks of verification/contact_two_bars (Q8 HRZ, 100 x 1 per bar, +-v0) with
 eps_hat = 1e3. With MASS PENALTY=AUTO the automatic step is the bulk's 0.9 * 2/omega0_max
-(the mass penalty keeps the predictor-corrector ratio r below 1/2), and the §6.1 gates hold.
-The same deck without the mass penalty, run at that same step, has r > 1: the printed ratio
-is checked, and the run either blows up (exit 2) or misses the §6.1 gates. A consistent
-mass with MASS PENALTY is refused (exit 1, message naming the card).
+(the mass penalty keeps the predictor-corrector ratio r below 1/2), and the doc/reference.md
+§3.1 gates hold. The same deck without the mass penalty, run at that same step, has r > 1: the
+printed ratio is checked, and the run either blows up (exit 2) or misses those gates. A
+consistent mass with MASS PENALTY is refused (exit 1, message naming the card).
 The omega_max statement (bipenalty keeps omega_max at the no-contact value, plain penalty
 raises it) is checked by the unit test tests/unit/solver/test_contact_omega.
 """
@@ -60,8 +60,8 @@ def main():
         bad = (abs(q["impulse"] / (2 * RHO * two_bars.H * two_bars.L) - 1) > 0.01
                or abs(q["duration"] / (2 * two_bars.L / C) - 1) > 0.03 or ek[-1] < 0.97 * ek[0]
                or ek[-1] > 1.03 * ek[0])
-        chk.true(bad, f"plain penalty at the bulk step misses the §6.1 gates (impulse "
-                 f"{q['impulse'] / (2 * RHO * two_bars.H * two_bars.L):.4g}, duration "
+        chk.true(bad, f"plain penalty at the bulk step misses the doc/reference.md §3.1 gates "
+                 f"(impulse {q['impulse'] / (2 * RHO * two_bars.H * two_bars.L):.4g}, duration "
                  f"{q['duration'] / (2 * two_bars.L / C):.4g}, kinetic energy {ek[-1] / ek[0]:.4g})")
     # consistent mass is refused
     path = os.path.join(args.work, "consistent.inp")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""physics.md §1.5, equivalence 1: two identical half-discs at +-V (dynamic Hertz bodies,
+"""doc/reference.md §1.3, equivalence 1: two identical half-discs at +-V (dynamic Hertz bodies,
 scripts/mesh/hertz.py, TWO HALF PASS, eps = 1e5) against one half-disc at V on a rigid
 frictionless wall (hertz.py --wall), and momentum conservation of the symmetric pair.
 

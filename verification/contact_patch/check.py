@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Contact patch test (physics.md §6.3): two stacked elastic blocks pressed together must
+"""Contact patch test (doc/reference.md §4): two stacked elastic blocks pressed together must
 carry a uniform stress and a uniform contact pressure.
 
 Lower block [0, W] x [0, H1], upper block [0, W] x [H1, H1 + H2], W = 1, H1 = H2 = 0.5,
@@ -13,7 +13,7 @@ Exact static solution of the penalty problem: sigma_xx = 0 (free sides), sigma_y
 plane strain sigma_zz = nu sigma_yy, so eps_yy = -p (1 - nu^2)/E in both blocks; the penalty
 interface closes by gp = p/eps. Compatibility: delta = p (H1 + H2)(1 - nu^2)/E + p/eps:
     p = delta / ((H1 + H2)(1 - nu^2)/E + 1/eps).
-The static state of the predictor-corrector scheme (physics.md §4.1) differs from it: at
+The static state of the predictor-corrector scheme (doc/theory.md §4) differs from it: at
 rest v_{n-1/2} = v_{n+1/2} = 0, but v_pre = dt M^-1 f_int/(1 + h) (h = alpha dt/2) is not
 zero at the interface nodes, whose internal force balances the contact force; contact is
 evaluated on u_pre = u + dt v_pre, i.e. on a gap closed further by
@@ -31,7 +31,7 @@ critical damping), run to t = 10 (the slowest modes then have decayed below 1e-1
 
 Matching meshes (Q8 4 x 2 on 4 x 2, ALPHA = 1/5; NURBS p = 2, 4 x 2 spans each, row sum):
 every contact-point pressure and the resultant against p_pc to 1e-10 (relative).
-Non-matching (Q8 4 x 2 below, 5 x 2 above): physics.md §6.3 gates max |p_q - p|/p < 5 % and
+Non-matching (Q8 4 x 2 below, 5 x 2 above): doc/reference.md §4 gates max |p_q - p|/p < 5 % and
 resultant error < 1e-8; the measured values are printed as regression numbers.
 """
 import os
@@ -123,7 +123,7 @@ def main():
     dev = float(np.max(np.abs(p - P_))) / P_
     res = abs(-fy - P_ * W) / (P_ * W)
     bal = abs(fy + fy2) / (P_ * W)
-    chk.below(dev, 0.05, "Q8 4 vs 5: max |p_q - p|/p (physics.md §6.3 gate 5 %)")
+    chk.below(dev, 0.05, "Q8 4 vs 5: max |p_q - p|/p (doc/reference.md §4 gate 5 %)")
     chk.below(res, 1e-8, "Q8 4 vs 5: resultant error |F - p W|/(p W) (gate 1e-8)")
     chk.below(bal, 1e-8, "Q8 4 vs 5: action = reaction |F_1 + F_2|/(p W)")
     print(f"  regression numbers, Q8 4 vs 5: max |p_q - p|/p = {dev:.6e}, resultant error "

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Short striker against a longer bar at rest (physics.md §6.2, matched impedance): contact
+"""Short striker against a longer bar at rest (doc/reference.md §3.2, matched impedance): contact
 lasts exactly 2 L1/c at the interface stress rho c v0/2, the striker ends at rest, the
 target carries all the momentum (mean velocity v0 L1/L2) and the striker never touches it
 again before the target's far-end reflection returns (t = 2 L2/c).

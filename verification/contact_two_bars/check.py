@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Two identical elastic bars at +-v0 (physics.md §6.2, equivalent to §6.1): the interface
+"""Two identical elastic bars at +-v0 (doc/reference.md §3.2, equivalent to §3.1): the interface
 force is rho c A v0 for 2L/c, then both bars rebound at -+v0 without vibration.
 
 Bars [-L, 0] (at +v0) and [0, L] (at -v0), L = 10, H = 0.1, E = 1000, rho = 1, plane stress
 nu = 0, touching at t = 0; frictionless TWO HALF PASS penalty contact between the end faces
 with eps_hat = eps h / E = 10 (h = 0.1: eps = 1e5). Q8 (HRZ, 100 x 1 elements) and a p = 2
 NURBS patch per bar (row sum, 100 x 1 spans). Automatic time step (it keeps the
-predictor-corrector ratio r <= 1/2; the printed r is checked). Gates of physics.md §6.1.
+predictor-corrector ratio r <= 1/2; the printed r is checked). Gates of doc/reference.md §3.1.
 """
 import os
 import sys
@@ -42,7 +42,7 @@ def two_bar_deck(kind, eps_hat=EPS_HAT, mass_penalty="", dt=0.0, mass=None):
 
 
 def check_pulse(chk, r, label, dt):
-    """The §6.1 gates on a two-bar run; returns the pulse."""
+    """The doc/reference.md §3.1 gates on a two-bar run; returns the pulse."""
     t = r.history("time")
     f = r.history("contact/bars/force_first")[:, 0]   # on bar A: -x
     p = impact.pulse(t, -f, dt)

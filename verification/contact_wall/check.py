@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Elastic bar hitting a rigid wall (Signorini, physics.md §6.1): contact force rho c A v0 for
+"""Elastic bar hitting a rigid wall (Signorini, doc/reference.md §3.1): contact force rho c A v0 for
 2L/c, impulse 2 rho A L v0, the bar leaves at +v0 with no residual vibration.
 
 Bar [0, L], L = 10, H = 0.1, E = 1000, rho = 1, plane stress nu = 0, moving at -v0 = -1,
 touching the *RIGID WALL x = 0 (normal +x) at t = 0, eps_hat = eps h / E = 10. Q8 (HRZ,
 100 x 1) and p = 2 NURBS (row sum, 100 x 1 spans). Automatic time step (r <= 1/2, checked
-from the printed ratio). Gates of physics.md §6.1, plus the bar's final momentum
+from the printed ratio). Gates of doc/reference.md §3.1, plus the bar's final momentum
 (+rho A L v0: the impulse is all passed on).
 """
 import os

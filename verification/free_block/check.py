@@ -4,7 +4,7 @@
 A 4 x 2 block (E = 1000, nu = 0.2, rho = 1, plane strain) of distorted Q8 / Q9 / Q4 elements,
 clamped on its left edge, starts with a uniform velocity v_y = 1 on all free nodes. No load
 does work and the clamped nodes do not move, so kinetic + strain energy stays at its initial
-value 1/2 v^T M v (physics.md §4.1: central differences conserve a discrete energy; the
+value 1/2 v^T M v (doc/theory.md §6: central differences conserve a discrete energy; the
 reported energy, with the mean velocity at t_n, oscillates by O((omega dt)^2) around it).
 Checked for lumped (HRZ) and consistent mass with dt = 0.5 * 2/omega_max and dt/2, over ~20
 periods of the fundamental mode: bounded (1%) and falling like dt^2; also with the automatic step (0.9 * 2/omega_max) with a wider bound,

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Dynamic Hertz benchmark (physics.md §1, doc/verification.md): the paper's cases at its
+"""Dynamic Hertz benchmark (doc/reference.md §1, doc/verification.md): the paper's cases at its
 dt = 5e-4 on 8 x 8 meshes (input/hertz/: q8_hrz, iga_hrz, iga_rowsum, iga_consistent,
 iga_hrz_one), and beyond the paper iga_corrector (the consistent mass applied by 2 corrector
 passes, doc/theory.md §5.1), against the quasi-static Hertz model of hertz_theory.py.
 
 Gates (justified in doc/verification.md §5):
 * the committed decks are what hertz_cases.py / scripts/mesh/hertz.py produce;
-* hertz_theory reproduces physics.md §2.4 (P_max, t_c for C = 1 and 1.7);
+* hertz_theory reproduces doc/reference.md §2.3 (P_max, t_c for C = 1 and 1.7);
 * peak force F_max/F_qs(C = 1) in [0.94, 1.05] and contact duration t_c/t_c,qs in
   [0.95, 1.01] (the C = 1 .. 1.7 model band is F 1 .. 1.16, t_c 1 .. 0.89; the converged
   fine-mesh runs give 0.97 and 0.98, waves shorten the contact);
@@ -15,7 +15,7 @@ Gates (justified in doc/verification.md §5):
 * the paper's findings: OI(IGA HRZ) > OI(Q8 HRZ); OI(IGA consistent) < OI(IGA row-sum) and
   < OI(IGA HRZ); and OI(IGA corrector) < OI(IGA row-sum);
 * impulse = m (V_w + V_rebound) to 1e-10; total y momentum constant to 1e-10 of m V_w;
-  forces on the two mirrored bodies equal and opposite to 1e-10 (physics §5.4);
+  forces on the two mirrored bodies equal and opposite to 1e-10 (doc/contact.md §5);
 * 0.9 < V_rebound / V_w <= 1 (the elastic waves left in the bodies keep some energy).
 """
 import os
@@ -38,8 +38,10 @@ def main():
     for v, c, pm, tc in ((2.0, 1.0, 449.40, 0.7783), (2.0, 1.7, 522.89, 0.6921),
                          (1.0, 1.0, 201.25, 0.8521)):
         q = ht.Impact(v, c)
-        chk.close(q.p_max, pm, 1e-4, f"quasi-static P_max (V_w = {v}, C = {c}), physics §2.4")
-        chk.close(q.t_c, tc, 1.5e-4, f"quasi-static t_c (V_w = {v}, C = {c}), physics §2.4")
+        chk.close(q.p_max, pm, 1e-4,
+                  f"quasi-static P_max (V_w = {v}, C = {c}), doc/reference.md §2.3")
+        chk.close(q.t_c, tc, 1.5e-4,
+                  f"quasi-static t_c (V_w = {v}, C = {c}), doc/reference.md §2.3")
     res = {}
     for name in CASES:
         case = hertz_cases.find(name)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Static Hertz (physics.md §6.6) from a dynamic-relaxation run of input/hertz/static_*.inp:
+"""Static Hertz (doc/reference.md §7) from a dynamic-relaxation run of input/hertz/static_*.inp:
 one half-disc pressed onto a rigid wall (its top arc moved down, mass-proportional damping).
 
 The contact points of the results file are Gauss points (3 per span or Q8 edge) in the

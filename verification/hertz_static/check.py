@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Static Hertz (physics.md §6.6) by dynamic relaxation: one half-disc R = 4 (plane strain,
+"""Static Hertz (doc/reference.md §7) by dynamic relaxation: one half-disc R = 4 (plane strain,
 E = 1000, nu = 0.2) on a rigid frictionless wall, its top 45-degree arc moved down by 0.2,
 mass-proportional damping ALPHA = 10, t = 3 (input/hertz/static_iga.inp, static_q8.inp:
 IGA p = 2 and Q8, 24 x 24, spans along the contact arc graded by 1.12 from the contact point).

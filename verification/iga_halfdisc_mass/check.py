@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mass of the half-disc R = 4 of physics.md §7.4, IGA and Q8 from the same deck family
+"""Mass of the half-disc R = 4 of doc/iga.md §10.4, IGA and Q8 from the same deck family
 (scripts/mesh/halfdisc.py), rho = 1: sum of /model/mass (row sums of the consistent mass, or
 the lumped masses; every scheme conserves the element mass) against the exact area.
 

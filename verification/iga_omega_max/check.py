@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Largest natural frequency of a FREE biquadratic B-spline patch against physics.md §4.3.
+"""Largest natural frequency of a FREE biquadratic B-spline patch against doc/reference.md §6.2.
 
 One NURBS patch, degree 2 x 2, square [0, 10]^2 with uniform open knot vectors refined to
 10 x 10 spans (h = 1; all weights 1, control points at the Greville abscissae, so the map is
 the identity up to scale), free edges, plane strain, E = 1000, nu = 0.2, rho = 1
-(c_d = 33.333). Expected omega_max h/c_d (physics.md §4.3, free-edge 10 x 10 patch):
-consistent 5.857, row-sum 2.408 (gate 1 %). physics.md gives no HRZ value: it is reported
+(c_d = 33.333). Expected omega_max h/c_d (doc/reference.md §6.2, free-edge 10 x 10 patch):
+consistent 5.857, row-sum 2.408 (gate 1 %). doc/reference.md gives no HRZ value: it is reported
 (measured 2.296, Co_crit 0.871, slightly below row-sum). The automatic step must be
 0.9 * 2/omega_max, and the total mass rho L^2.
 
@@ -55,7 +55,8 @@ def main():
             print(f"  info {mass}: omega_max h / c_d = {w / CD:.4f} (Co_crit = {2 * CD / w:.4f})")
         chk.close(float(r.attr("dt")), 0.9 * 2.0 / w, 1e-12, f"{mass}: automatic dt = 0.9 * 2/omega_max")
         chk.close(float(r.model("mass").sum()), 100.0, 1e-12, f"{mass}: total mass rho L^2")
-    chk.true(got["ROW SUM"] < got["CONSISTENT"], "row-sum lumping lowers omega_max (physics.md §4.3)")
+    chk.true(got["ROW SUM"] < got["CONSISTENT"],
+             "row-sum lumping lowers omega_max (doc/reference.md §6.2)")
     chain = [got["ROW SUM"]]
     for k in (1, 2, 4):
         path = os.path.join(args.work, f"iga_omega_corrector{k}.inp")

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Energy balance of an IGA run: the free half-disc of physics.md §7.4 (R = 4, rho = 1, no
-boundary conditions) translating at a uniform initial velocity v = (1.5, -2) (physics.md §6.4,
+"""Energy balance of an IGA run: the free half-disc of doc/iga.md §10.4 (R = 4, rho = 1, no
+boundary conditions) translating at a uniform initial velocity v = (1.5, -2) (doc/reference.md §5,
 rigid translation). Exact: f_int = K u = 0 for u = v t, so the body keeps v, the strain energy
 stays 0, and the kinetic energy is (1/2) m v^2 with m = 8 pi rho for consistent, row-sum and
 HRZ mass alike (every scheme conserves the total mass, and the consistent M applied to a

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""Largest natural frequency of a free square Q8 mesh against physics.md §4.3.
+"""Largest natural frequency of a free square Q8 mesh against doc/reference.md §6.2.
 
 A 10 x 10 mesh of square Q8 elements (h = 1) with free edges, plane strain, E = 1000,
 nu = 0.2, rho = 1 (c_d = 33.333). Expected omega_max h / c_d (Bloch analysis and a free
-10 x 10 patch, physics.md §4.3): consistent 8.051, HRZ with a 2x2 diagonal 8.731, HRZ with
+10 x 10 patch, doc/reference.md §6.2): consistent 8.051, HRZ with a 2x2 diagonal 8.731, HRZ with
 the full 3x3 rule 7.568. ictus estimates omega_max by power iteration (stored as the root
 attribute omega_max); gate: within 2%.
 Also: a given dt above 2/omega_max is refused before the first step (exit 1, both numbers
-named), and row-sum lumping of Q8 is refused (negative corner masses, physics.md §3.2).
+named), and row-sum lumping of Q8 is refused (negative corner masses, doc/theory.md §3).
 """
 import os
 import re

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The results file holds every path of results-format.md that applies without contact,
-with the documented shapes and meanings, and the processed deck reads back as a deck.
+"""The results file holds every path of layout version 1 (doc/results.md) that applies without
+contact, with the documented shapes and meanings, and the processed deck reads back as a deck.
 """
 import os
 import sys

@@ -3,7 +3,7 @@
 
 A bar hits a rigid wall with a penalty 1000 times its element stiffness at the time step of
 the bulk (0.9 * 2/omega_max without contact): the predictor-corrector penalty needs
-r = dt^2 eps l_s/m_s <= 1 (physics.md §4.4), here r is in the hundreds, so the contact mode
+r = dt^2 eps l_s/m_s <= 1 (doc/contact.md §6), here r is in the hundreds, so the contact mode
 grows without bound. ictus must detect the blow-up (energies non-finite or above 1000 times the
 initial energy), stop with exit status 2 and a message naming the step, the time and the node,
 print no backtrace, and leave a readable results file whose `status` says "failed: ..." with

@@ -1,5 +1,5 @@
 !> Sparse Cholesky factorisation L L^T = P A P^T of a symmetric positive definite matrix, and
-!! its triangular solves (used for the consistent mass, physics.md §4.1: "Factor M once").
+!! its triangular solves (used for the consistent mass, doc/theory.md §5: factorised once).
 !!
 !! Three stages, in the classic order of a direct solver:
 !!

@@ -47,7 +47,7 @@ program test_build_contact
 contains
 
   !> Nodes: a row of two 1 x 1 Q8 elements (ids 1, 2, nodes 1..13), a clockwise Q8 (id 3)
-  !! far away, then the 9 control points of the half-disc patch of physics.md 7.4.
+  !! far away, then the 9 control points of the half-disc patch of doc/iga.md §10.4.
   subroutine make_model(m)
     type(model_t), intent(out) :: m
     real(dp) :: cp(3, 9), cw, tn

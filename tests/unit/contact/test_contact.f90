@@ -1,6 +1,7 @@
 !> Contact forces and stability through the public API (contact_t): flat interfaces between
-!! straight Q8 meshes and NURBS patches with a uniform penetration g (physics.md 5.3, 5.4,
-!! 6.3), a rigid wall, node-to-segment, and the stability ratio of physics.md 4.5.
+!! straight Q8 meshes and NURBS patches with a uniform penetration g (doc/contact.md §4-5,
+!! doc/reference.md §4), a rigid wall, node-to-segment, and the stability ratio of
+!! doc/contact.md §6.
 !!
 !! Exact answers for a flat interface of length L with penetration g: pressure eps g at every
 !! contact point, resultant eps g L on each body (equal and opposite), penalty energy
@@ -255,7 +256,7 @@ contains
   end subroutine q8_rigid_wall
 
   !> Stability ratio of a straight Q8 HRZ (2x2, corner 1/36, midside 8/36 of rho h^2) edge of
-  !! square elements, physics.md 4.5 with dt^2 eps/rho = 0.025: against a rigid wall the
+  !! square elements, doc/contact.md §6 with dt^2 eps/rho = 0.025: against a rigid wall the
   !! corner gives r_s = dt^2 eps (h/3)/(rho h^2/18) = 0.15/h; two identical meshes twice that.
   subroutine q8_stability(t)
     type(checker_t), intent(inout) :: t
@@ -298,7 +299,7 @@ contains
         'two bodies: where names both nodes')
   end subroutine q8_stability
 
-  !> The two half-discs of the benchmark (physics.md 7.4, R = 4, refined 8 x 8), mirror
+  !> The two half-discs of the benchmark (doc/iga.md §10.4, R = 4, refined 8 x 8), mirror
   !! images about y = 0 (the lower one has det J > 0, the upper det J < 0), pushed into each
   !! other by 2 delta; contact surfaces: the XI0 arcs, which end at the contact point (0, 0).
   !! Mirrored meshes: the y-forces are equal and opposite to round-off, the x-forces equal.

@@ -1,4 +1,4 @@
-!> Closest-point projection (physics.md 5.2): the quarter-circle table, clamping at the
+!> Closest-point projection (doc/contact.md §3): the quarter-circle table, clamping at the
 !! surface ends, moving across segment ends, quadratic Lagrange edges, a concave master
 !! with two local minima, and a point close to its master (round-off regime).
 program test_projection
@@ -22,7 +22,7 @@ program test_projection
 
 contains
 
-  !> One rational quadratic segment: the quarter circle R = 4 of physics.md 5.2.
+  !> One rational quadratic segment: the quarter circle R = 4 of doc/contact.md §3.
   subroutine quarter(surf, x)
     type(contact_surface_t), intent(out) :: surf
     real(dp), allocatable, intent(out) :: x(:,:)

@@ -1,5 +1,5 @@
 !> Contact surfaces: orientation of patch sides (including the half-disc patch of
-!! physics.md 7.4, whose det J is negative), nodal weights l_A, neighbours, Gauss points, the
+!! doc/iga.md §10.4, whose det J is negative), nodal weights l_A, neighbours, Gauss points, the
 !! inverted-element check, and the segment curves (Bezier form) against segment_geometry.
 program test_surface
   use ictus_core_kinds, only: dp, pi
@@ -23,7 +23,7 @@ program test_surface
 
 contains
 
-  !> The half-disc patch of physics.md 7.4 (R = 4), refined k x k.
+  !> The half-disc patch of doc/iga.md §10.4 (R = 4), refined k x k.
   subroutine half_disc(patch, k, swap)
     type(patch_t), intent(out) :: patch
     integer, intent(in) :: k
@@ -102,7 +102,7 @@ contains
     type(contact_surface_t) :: surf
     real(dp), allocatable :: x(:,:)
     integer :: ierr, s, side, nopen
-    ! det J < 0 for this patch (physics.md 7.4): the sides whose parameter runs clockwise
+    ! det J < 0 for this patch (doc/iga.md §10.4): the sides whose parameter runs clockwise
     ! (ETA0, XI1 here) must be flipped, the others kept
     call half_disc(patch, 4, .false.)
     do side = SIDE_XI0, SIDE_ETA1

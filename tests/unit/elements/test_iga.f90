@@ -67,7 +67,7 @@ contains
   end subroutine case_gauss
 
   !> Area of the half disc = 8 pi (R = 4) by sum w det J, det J of one sign (negative in
-  !! this parameter order, physics.md §7.4), before and after refinement and elevation.
+  !! this parameter order, doc/iga.md §10.4), before and after refinement and elevation.
   subroutine case_half_disc_area(t)
     type(checker_t), intent(inout) :: t
     type(patch_t) :: q
@@ -176,7 +176,7 @@ contains
     call t%close_abs(efd, 0.0_dp, 1.0e-8_dp, "dR/dxi~ vs finite differences")
   end subroutine case_patch_map
 
-  !> physics.md §3.3: uniform open knots, p = 2, span h: integrals of the basis functions
+  !> doc/iga.md §5: uniform open knots, p = 2, span h: integrals of the basis functions
   !! h/3, 2h/3, h, ..., h, 2h/3, h/3; in 2D on an affine patch they multiply.
   subroutine case_basis_integrals(t)
     type(checker_t), intent(inout) :: t

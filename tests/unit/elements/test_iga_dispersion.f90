@@ -1,5 +1,5 @@
-!> Exact 1D discrete dispersion of p = 2 B-splines (physics.md §6.5) and the 1D omega_max
-!! table of physics.md §4.3, from element matrices integrated here: the B-splines of a
+!> Exact 1D discrete dispersion of p = 2 B-splines (doc/reference.md §6.1) and the 1D omega_max
+!! table of doc/reference.md §6.2, from element matrices integrated here: the B-splines of a
 !! uniform knot vector by Bezier extraction (ictus_geometry_bezier), Gauss-Legendre rules
 !! (ictus_elements_quadrature), and eigenvalues by LAPACK dsygv.
 !!
@@ -72,7 +72,7 @@ contains
   end subroutine interior_element
 
   !> The assembled interior stencils K = (1/6h)[-1, -2, 6, -2, -1], M = (h/120)[1, 26, 66,
-  !! 26, 1] (physics.md §6.5): row sums of the element contributions to one function.
+  !! 26, 1] (doc/reference.md §6.1): row sums of the element contributions to one function.
   subroutine case_stencils(t)
     type(checker_t), intent(inout) :: t
     real(dp) :: ke(3, 3), me(3, 3), ks(-2:2), ms(-2:2)
@@ -153,7 +153,7 @@ contains
         "row-sum omega_max h/c <= sqrt(1.5)"//trim(tag))
   end subroutine case_periodic
 
-  !> Open knot vector, 40 spans: omega_max h/c with free and fixed ends (physics.md §4.3:
+  !> Open knot vector, 40 spans: omega_max h/c with free and fixed ends (doc/reference.md §6.2:
   !! free 4.645 / 2.320, fixed 3.162 / 1.437, consistent / row-sum; given to 4 digits, so
   !! checked to half a unit of the last digit).
   subroutine case_open(t)
@@ -176,7 +176,7 @@ contains
     do a = 1, n
       ml(a, a) = sum(mg(a, :))
     end do
-    call t%close(ml(1, 1), h/3.0_dp, 1.0e-14_dp, "open knots: end row-sum mass h/3 (§3.3)")
+    call t%close(ml(1, 1), h/3.0_dp, 1.0e-14_dp, "open knots: end row-sum mass h/3 (doc/iga.md §5)")
     call t%close(ml(2, 2), 2.0_dp*h/3.0_dp, 1.0e-14_dp, "open knots: next row-sum mass 2h/3")
     call eigenvalues(n, kg, mg, lam, info)
     call t%close_abs(sqrt(lam(n))*h, 4.645_dp, 5.0e-4_dp, "open, free ends, consistent: 4.645")

@@ -1,4 +1,4 @@
-!> IGA patch tests on a distorted NURBS patch (physics.md §6.4), assembled here from
+!> IGA patch tests on a distorted NURBS patch (doc/reference.md §5), assembled here from
 !! iga_shape_data, solid2d_stiffness and solid2d_stress and the patch routines.
 !!
 !! A square patch, refined to 4 x 4 spans (p = 2) or elevated to p = 3 and refined to 3 x 3

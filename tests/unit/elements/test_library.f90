@@ -89,8 +89,8 @@ contains
   end subroutine case_q4_closed_form
 
   !> Square Q8, plane strain, E = 1000, nu = 0.2: a free element's omega bounds the mesh's
-  !! (physics.md §4.2), so omega_e h/c_d must be at least the periodic-mesh values of §4.3;
-  !! omega_e scales like 1/h; a mass with negative entries is rejected.
+  !! (doc/theory.md §7), so omega_e h/c_d must be at least the periodic-mesh values of
+  !! doc/reference.md §6.2; omega_e scales like 1/h; a mass with negative entries is rejected.
   subroutine case_q8_bounds(t)
     type(checker_t), intent(inout) :: t
     type(elem_shape_t) :: shp3, shp2

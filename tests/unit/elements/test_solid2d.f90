@@ -1,5 +1,5 @@
 !> Isoparametric solid kernels: patch tests on distorted (and, for Q8/Q9, curved) 2x2 meshes
-!! (physics.md §6.4), rigid-body modes, consistent-mass totals, inverted elements.
+!! (doc/reference.md §5), rigid-body modes, consistent-mass totals, inverted elements.
 program test_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t

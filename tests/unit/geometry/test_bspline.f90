@@ -21,7 +21,7 @@ program test_bspline
 
 contains
 
-  !> physics.md §7.2: U = {0,0,0,1/2,1/2,1,1,1}, p = 2; 0-based spans 2,2,4,4,4 -> 1-based +1.
+  !> doc/iga.md §10.2: U = {0,0,0,1/2,1/2,1,1,1}, p = 2; 0-based spans 2,2,4,4,4 -> 1-based +1.
   subroutine case_find_span(t)
     type(checker_t), intent(inout) :: t
     real(dp), parameter :: u(8) = [0.0_dp, 0.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 1.0_dp, &

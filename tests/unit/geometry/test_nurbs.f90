@@ -1,4 +1,4 @@
-!> Unit tests of ictus_geometry_nurbs: quarter/half circle values (physics.md §7.2, §7.3),
+!> Unit tests of ictus_geometry_nurbs: quarter/half circle values (doc/iga.md §10.2, §10.3),
 !! rational basis properties and derivatives, surface derivatives.
 program test_nurbs
   use ictus_core_kinds, only: dp, pi
@@ -18,7 +18,7 @@ program test_nurbs
 
 contains
 
-  !> Quarter circle R = 4 of physics.md §5.2/§7.2.
+  !> Quarter circle R = 4 of doc/contact.md §3, doc/iga.md §10.2.
   subroutine quarter(knots, cp)
     real(dp), intent(out) :: knots(6), cp(3, 3)
     knots = [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp]
@@ -27,7 +27,7 @@ contains
     cp(:, 3) = [0.0_dp, rr, 1.0_dp]
   end subroutine quarter
 
-  !> Half circle R = 4 of physics.md §7.3 (two quarter arcs, double knot at 1/2).
+  !> Half circle R = 4 of doc/iga.md §10.3 (two quarter arcs, double knot at 1/2).
   subroutine half(knots, cp)
     real(dp), intent(out) :: knots(8), cp(3, 5)
     knots = [0.0_dp, 0.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 1.0_dp, 1.0_dp]
@@ -38,7 +38,7 @@ contains
     cp(:, 5) = [-rr, 0.0_dp, 1.0_dp]
   end subroutine half
 
-  !> physics.md §7.2 test values at xi = 0.25 and 0.5 (given to 6 digits).
+  !> doc/iga.md §10.2 test values at xi = 0.25 and 0.5 (given to 6 digits).
   subroutine case_quarter_values(t)
     type(checker_t), intent(inout) :: t
     real(dp) :: knots(6), cp(3, 3), r(0:2), dr(0:2), ddr(0:2), x(2), dx(2)
@@ -148,7 +148,7 @@ contains
     call t%close_abs(ex2, 0.0_dp, 1.0e-8_dp, "x'' vs finite differences")
   end subroutine case_basis_properties
 
-  !> Half-disc patch of physics.md §7.4: surface basis properties, derivatives vs central
+  !> Half-disc patch of doc/iga.md §10.4: surface basis properties, derivatives vs central
   !! differences, derivatives at A = (0, -R): dx/dxi = (0, 8), dx/deta = (8 sin 22.5°, 0).
   subroutine case_surface(t)
     type(checker_t), intent(inout) :: t
@@ -191,7 +191,7 @@ contains
     call t%close_abs(dv(2), 0.0_dp, 1.0e-14_dp, "A dx/deta y")
   end subroutine case_surface
 
-  !> Control points of the half-disc patch (physics.md §7.4), P[i][j] -> cp(:, 1+i+3j).
+  !> Control points of the half-disc patch (doc/iga.md §10.4), P[i][j] -> cp(:, 1+i+3j).
   subroutine half_disc(cp)
     real(dp), intent(out) :: cp(3, 9)
     real(dp) :: c, tn

@@ -20,7 +20,7 @@ program test_refine
 
 contains
 
-  !> Half circle R = 4 (physics.md §7.3).
+  !> Half circle R = 4 (doc/iga.md §10.3).
   subroutine half(knots, cp)
     real(dp), intent(out) :: knots(8), cp(3, 5)
     knots = [0.0_dp, 0.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 1.0_dp, 1.0_dp]

@@ -223,7 +223,7 @@ contains
         d%step%restart_every == 1000, 'fe: output and restart')
   end subroutine check_fe_conditions
 
-  !> The patch deck: half-disc patch of physics.md 7.4, a C0 ring, elevation and refinement.
+  !> The patch deck: half-disc patch of doc/iga.md §10.4, a C0 ring, elevation and refinement.
   subroutine case_patch_deck(t, path)
     type(checker_t), intent(inout) :: t
     character(len=*), intent(in) :: path
@@ -245,7 +245,7 @@ contains
       call t%true(all(p%knots1 == [0, 0, 0, 1, 1, 1]) .and. all(p%knots2 == [0, 0, 0, 1, 1, &
           1]), 'patch: knot vectors over two lines')
       call t%equal_int(size(p%cp, 2), 9, 'patch: 9 control points')
-      ! Corner control points lie on the circle of radius 4 about (0, -4) (physics.md 7.4).
+      ! Corner control points lie on the circle of radius 4 about (0, -4) (doc/iga.md §10.4).
       do k = 1, 9, 2
         if (k == 5) cycle
         r = hypot(p%cp(1, k), p%cp(2, k) + 4.0_dp)

@@ -1,7 +1,7 @@
 !> Unit tests of ictus_io_iga_viz: viewing samples of NURBS elements.
 !!
-!! A hand-built model: one Q4 element (4 nodes, not sampled), the half-disc patch of physics.md
-!! §7.4 (directions swapped so that det J > 0, centre (0, 4)) refined into 3 x 2 spans, and the
+!! A hand-built model: one Q4 element (4 nodes, not sampled), the half-disc patch of doc/iga.md
+!! §10.4 (directions swapped so that det J > 0, centre (0, 4)) refined into 3 x 2 spans, and the
 !! same patch elevated to p = 3, refined 2 x 2 and shifted by (10, 0). Checks: counts
 !! (s = 2p+1 per direction, or SAMPLES= for all patches, against iga_viz_count), every sample
 !! point lies on its patch map (patch_point at the span parameters), a constant field is

@@ -1,5 +1,5 @@
-!> Lumping schemes against the exact fractions of physics.md §3.2 (square Q8) and the
-!! conservation/positivity properties of §3.1 (Q4, Q9, distorted elements).
+!> Lumping schemes against the exact fractions of doc/theory.md §3 (square Q8) and the
+!! conservation/positivity properties of that section (Q4, Q9, distorted elements).
 program test_lumping
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t

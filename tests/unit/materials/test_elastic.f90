@@ -1,4 +1,4 @@
-!> Constitutive matrix against the hand formulas, wave speeds against physics.md §1.3.
+!> Constitutive matrix against the hand formulas, wave speeds against doc/reference.md §1.2.
 program test_elastic
   use ictus_core_kinds, only: dp
   use ictus_materials_elastic, only: elastic_dmat, wave_speed_p, wave_speed_s
@@ -51,7 +51,7 @@ contains
     call t%close_abs(d(1,2), 0.0_dp, 1.0e-15_dp, 'nu=0 D12')
   end subroutine case_dmat
 
-  !> physics.md §1.3 table: 33.333, 32.275, 20.412 (to 1e-4 relative); exact 100/3 for c_d.
+  !> doc/reference.md §1.2 table: 33.333, 32.275, 20.412 (to 1e-4 relative); exact 100/3 for c_d.
   subroutine case_speeds(t)
     type(checker_t), intent(inout) :: t
     call t%close(wave_speed_p(1000.0_dp, 0.2_dp, 1.0_dp, .true.), 33.333_dp, 1.0e-4_dp, &

@@ -1,6 +1,6 @@
 !> omega_max with the contact active (contact_omega_max) on two spring bars pressed together,
 !! against a dense eigen-solve of the same operators written down by hand, and the bipenalty
-!! property of physics.md 4.6: with beta = eps_N/eps_m = omega0^2 the largest frequency
+!! property of doc/contact.md §6a: with beta = eps_N/eps_m = omega0^2 the largest frequency
 !! stays at the one without contact, while plain penalty raises it.
 !!
 !! Each bar: two rows (y = 0 and y = H) of n + 1 nodes, axial springs ks between neighbours
@@ -117,9 +117,9 @@ contains
     ref_plain = dense_omega(conn, md, ell, eps, 0.0_dp)
     call t%close(om_plain, ref_plain, 1.0e-5_dp, 'plain penalty: omega_max against the '// &
         'dense eigen-solve of K + eps [[G, -G], [-G, G]]')
-    ! physics.md 4.4: lambda ~ eps l (1/m_s + 1/m_m) for a stiff penalty
+    ! doc/contact.md §6: lambda ~ eps l (1/m_s + 1/m_m) for a stiff penalty
     call t%close(om_plain, sqrt(eps*ell*(2.0_dp/(0.5_dp*m))), 0.02_dp, &
-        'plain penalty: omega_max ~ sqrt(eps l (1/m_s + 1/m_m)) (physics.md 4.4)')
+        'plain penalty: omega_max ~ sqrt(eps l (1/m_s + 1/m_m)) (doc/contact.md §6)')
     call t%true(om_plain > 5.0_dp*omega0, 'plain penalty raises omega_max (x5 or more)')
     ! bipenalty with beta = omega0^2 (the dt given is small, so 1/(2 dt^2) > omega0^2)
     c%pairs(1)%mass_penalty = 0.0_dp
