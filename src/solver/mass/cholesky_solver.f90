@@ -1,5 +1,5 @@
 !> MASS SOLVER=CHOLESKY of the mass operator (ictus_solver_mass_solver): M is factorised once
-!! (physics.md §4.1), sparse Cholesky in METIS nested-dissection order (ictus_solver_cholesky).
+!! (doc/theory.md §5), sparse Cholesky in METIS nested-dissection order (ictus_solver_cholesky).
 !! Every rank holds the factor of the whole M and solves the whole system after an allgather
 !! of f (ictus_solver_mass_gathered), so the solution is the same bits on any number of
 !! ranks; the memory of the factor does not shrink with more ranks.

@@ -1,6 +1,6 @@
 !> MASS SOLVER=CORRECTOR of the mass operator (ictus_solver_mass_solver): a fixed number k of
 !! passes x <- x + D^-1 (f - M x) from x = D^-1 f, with D the row sums of M
-!! (predictor/multi-corrector, physics.md §3.4). This is not a converged solve but a fixed
+!! (predictor/multi-corrector, doc/theory.md §5.1). This is not a converged solve but a fixed
 !! approximate inverse M_k^-1 = sum_{j=0..k} (I - D^-1 M)^j D^-1: symmetric, between D^-1 and
 !! M^-1 in the Loewner order when M has no negative entries (then the eigenvalues of D^-1 M
 !! lie in (0, 1]), so it is positive definite, conserves momentum exactly and keeps the

@@ -125,7 +125,7 @@ contains
   end subroutine mass_op_init
 
   !> Lumped mass only: owned node i gets the added mass dm >= 0 in the solve a = M^-1 f
-  !! (bipenalty, physics.md 4.6): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
+  !! (bipenalty, doc/contact.md §6a): inv_diag = 1/(m_i + dm) on its free dofs; dm = 0 restores
   !! 1/m_i. Massless nodes and fixed dofs keep 0; m_diag (the kinetic energy and mass_apply)
   !! is not changed. Does nothing for a consistent mass.
   !! @param op operator; @param i owned node (1..nn); @param dm added mass
