@@ -11,7 +11,8 @@ xdmf_paraview.py under pvpython three times:
      --work/hertz.png and --work/mixed.png;
   2. from --work, on the bare names, with the legacy XDMF reader (XDMFReader);
   3. from --work, on ./hertz.xdmf, ./mixed.xdmf and the per-block sidecars
-     ./mixed.q8.xdmf, ./mixed.iga.xdmf, with the reader OpenDataFile picks.
+     ./mixed.q8.xdmf, ./mixed.iga.xdmf, with the reader OpenDataFile picks;
+  4. from --work, on ./hertz.xdmf and ./mixed.xdmf, with Xdmf3ReaderT.
 ParaView 5.11's Xdmf3 readers (the default) prefix the HDF5 name with the whole sidecar name
 when that has no folder part (bare 'hertz.xdmf' -> 'hertz.xdmfhertz.h5'), whatever the sidecar
 says; so the bare name is tried with the legacy reader and the default one gets './'.
@@ -97,7 +98,9 @@ def main():
             ("bare name from its folder, legacy reader", work,
              ["--reader", "legacy"] + main_files),
             ("./name from its folder, default reader", work,
-             ["./" + f for f in wants])]
+             ["./" + f for f in wants]),
+            ("./name from its folder, Xdmf3ReaderT", work,
+             ["--reader", "xdmf3t"] + ["./" + f for f in main_files])]
     for how, cwd, args in runs:
         rc, results = run_paraview(args, cwd)
         files = [x for x in args if x.endswith(".xdmf")]

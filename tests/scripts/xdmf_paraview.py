@@ -1,6 +1,6 @@
 """Run by pvpython (check_xdmf_paraview.py starts it under xvfb-run): opens each sidecar given,
-with the reader OpenDataFile picks (--reader default) or the legacy XDMF reader (--reader
-legacy), applies Warp By Vector on `displacement` and prints one line per file:
+with the reader OpenDataFile picks (--reader default), the legacy XDMF reader (--reader
+legacy) or Xdmf3ReaderT (--reader xdmf3t), applies Warp By Vector on `displacement` and prints one line per file:
     RESULT {"file": ..., "reader": ..., "steps": ..., "last_time": ..., "points": ...,
             "cells": ..., "components": {...}, "warped_bounds": [...]}
 With --png, also renders the last step of the warped result, coloured by the displacement
@@ -16,12 +16,14 @@ from paraview import simple as pv
 def open_file(name, reader):
     if reader == "legacy":
         return pv.XDMFReader(FileNames=[name])
+    if reader == "xdmf3t":
+        return pv.Xdmf3ReaderT(FileName=[name])
     return pv.OpenDataFile(name)
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--reader", choices=("default", "legacy"), default="default")
+    ap.add_argument("--reader", choices=("default", "legacy", "xdmf3t"), default="default")
     ap.add_argument("--png", default="", help="folder for the PNGs (none: no rendering)")
     ap.add_argument("files", nargs="+")
     a = ap.parse_args()
