@@ -20,7 +20,7 @@ module ictus_io_results
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
       h5u_create_ext, h5u_append, h5u_write_rows, h5u_open_file, h5u_truncate, h5u_delete, &
       h5u_delete_attr
-  use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t
+  use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t, xdmf_block_path
   implicit none
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
@@ -492,6 +492,15 @@ contains
       call h5u_write_rows(g, 'viz_displacement', r%viz_u, r%viz_mine, r%viz%ns)
       call h5u_write_rows(g, 'viz_velocity', r%viz_v, r%viz_mine, r%viz%ns)
     end if
+    ! the same vectors with z = 0, for the XDMF sidecar
+    if (any(r%grids%etype /= ETYPE_IGA)) then
+      call write_3d(g, 'displacement_3d', u(:, 1:size(gid)), gid, r%nn)
+      call write_3d(g, 'velocity_3d', v(:, 1:size(gid)), gid, r%nn)
+    end if
+    if (r%viz%ns > 0) then
+      call write_3d(g, 'viz_displacement_3d', r%viz_u, r%viz_mine, r%viz%ns)
+      call write_3d(g, 'viz_velocity_3d', r%viz_v, r%viz_mine, r%viz%ns)
+    end if
     call h5u_close_group(g)
     ! contact points of each pair's first surface (the same on every rank)
     do k = 1, r%npairs
@@ -509,7 +518,28 @@ contains
     r%field_time = [r%field_time, time]
     call flush_history(r)
     call xdmf_write(r%xdmf_path, r%path, r%grids, r%field_step, r%field_time)
+    ! with several blocks, also one sidecar per block (readers of one mesh per file: meshio)
+    if (size(r%grids) > 1) then
+      do k = 1, size(r%grids)
+        call xdmf_write(xdmf_block_path(r%xdmf_path, r%grids(k)%name), r%path, &
+            r%grids(k:k), r%field_step, r%field_time)
+      end do
+    end if
   end subroutine results_field
+
+  !> Writes the rows `rows` of the (nglobal, 3) dataset `name`: the vectors x (2, :) with a
+  !! third component 0.
+  subroutine write_3d(g, name, x, rows, nglobal)
+    integer(hid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer, intent(in) :: rows(:), nglobal
+    real(dp), allocatable :: x3(:,:)
+    allocate(x3(3, size(rows)))
+    x3(1:2, :) = x(1:2, 1:size(rows))
+    x3(3, :) = 0.0_dp
+    call h5u_write_rows(g, name, x3, rows, nglobal)
+  end subroutine write_3d
 
   !> Writes the remaining history, the final `status` attribute, and closes the file.
   subroutine results_close(r, status)

@@ -1,5 +1,15 @@
-!> The XDMF sidecar that lets ParaView and VisIt open the field snapshots as a time series.
-!! It only points into the HDF5 file; it is rewritten (by rank 0) after every snapshot.
+!> The XDMF sidecar that lets ParaView, VisIt and meshio open the field snapshots as a time
+!! series. It only points into the HDF5 file; it is rewritten (by rank 0) after every snapshot.
+!!
+!! What the readers need (doc/results.md, "The XDMF sidecar"):
+!! - vectors with 3 components (ParaView's Warp By Vector asserts it): the attributes point to
+!!   the padded copies /fields/<step>/[viz_]<field>_3d (z = 0), since meshio cannot evaluate
+!!   an XDMF Function over the 2-component datasets;
+!! - every real DataItem says DataType="Float" Precision="8" (Xdmf3 reads Precision alone as
+!!   float32);
+!! - a model with one block is one Uniform grid per step (meshio's time-series reader needs
+!!   it); several blocks are a spatial collection per step;
+!! - the HDF5 file is named without a directory: readers resolve it from the sidecar's folder.
 module ictus_io_xdmf
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: ETYPE_IGA, element_kind_t
@@ -7,7 +17,7 @@ module ictus_io_xdmf
   use ictus_parallel_env, only: env_is_root
   implicit none
   private
-  public :: xdmf_write, xdmf_grid_t
+  public :: xdmf_write, xdmf_grid_t, xdmf_block_path
 
   !> One block of cells: FE elements of one type (/model/elements/<name>/connectivity on
   !! /model/coordinates, fields displacement/velocity), or the NURBS viewing sub-cells (name
@@ -31,7 +41,7 @@ contains
     real(dp), intent(in) :: times(:)
     integer :: u, i, j, ios
     character(len=8) :: sname
-    character(len=:), allocatable :: h5, conn, geom, prefix
+    character(len=:), allocatable :: h5
     if (.not. env_is_root()) return
     h5 = basename(h5path)
     open(newunit=u, file=path, status='replace', action='write', iostat=ios)
@@ -42,34 +52,17 @@ contains
     write(u, '(a)') '  <Grid Name="ictus" GridType="Collection" CollectionType="Temporal">'
     do i = 1, size(steps)
       write(sname, '(i8.8)') steps(i)
-      write(u, '(a)') '   <Grid Name="step '//sname//'" GridType="Collection" '// &
-          'CollectionType="Spatial">'
-      write(u, '(a,es23.16,a)') '    <Time Value="', times(i), '"/>'
-      do j = 1, size(grids)
-        if (grids(j)%etype == ETYPE_IGA) then
-          conn = ':/viz/iga/cells'
-          geom = ':/viz/iga/points'
-          prefix = 'viz_'
-        else
-          conn = ':/model/elements/'//trim(grids(j)%name)//'/connectivity'
-          geom = ':/model/coordinates'
-          prefix = ''
-        end if
-        write(u, '(a)') '    <Grid Name="'//trim(grids(j)%name)//'" GridType="Uniform">'
-        write(u, '(a,i0,a)') '     <Topology TopologyType="'//topology(grids(j)%etype)// &
-            '" NumberOfElements="', grids(j)%nel, '">'
-        write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Int" Dimensions="', &
-            grids(j)%nel, grids(j)%nen, '">'//h5//conn//'</DataItem>'
-        write(u, '(a)') '     </Topology>'
-        write(u, '(a)') '     <Geometry GeometryType="XY">'
-        write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', &
-            grids(j)%npoints, ' 2">'//h5//geom//'</DataItem>'
-        write(u, '(a)') '     </Geometry>'
-        call attribute(u, 'displacement', prefix, h5, sname, grids(j)%npoints)
-        call attribute(u, 'velocity', prefix, h5, sname, grids(j)%npoints)
-        write(u, '(a)') '    </Grid>'
-      end do
-      write(u, '(a)') '   </Grid>'
+      if (size(grids) == 1) then
+        call grid(u, grids(1), 'step '//sname, h5, sname, times(i))
+      else
+        write(u, '(a)') '   <Grid Name="step '//sname//'" GridType="Collection" '// &
+            'CollectionType="Spatial">'
+        write(u, '(a,es23.16,a)') '    <Time Value="', times(i), '"/>'
+        do j = 1, size(grids)
+          call grid(u, grids(j), trim(grids(j)%name), h5, sname)
+        end do
+        write(u, '(a)') '   </Grid>'
+      end if
     end do
     write(u, '(a)') '  </Grid>'
     write(u, '(a)') ' </Domain>'
@@ -77,14 +70,62 @@ contains
     close(u)
   end subroutine xdmf_write
 
+  !> One Uniform grid `name`: the block `g` at snapshot `sname`, with its own Time when `time`
+  !! is given (a grid that is a whole step).
+  subroutine grid(u, g, name, h5, sname, time)
+    integer, intent(in) :: u
+    type(xdmf_grid_t), intent(in) :: g
+    character(len=*), intent(in) :: name, h5, sname
+    real(dp), intent(in), optional :: time
+    character(len=:), allocatable :: conn, geom, prefix
+    if (g%etype == ETYPE_IGA) then
+      conn = ':/viz/iga/cells'
+      geom = ':/viz/iga/points'
+      prefix = 'viz_'
+    else
+      conn = ':/model/elements/'//trim(g%name)//'/connectivity'
+      geom = ':/model/coordinates'
+      prefix = ''
+    end if
+    write(u, '(a)') '    <Grid Name="'//name//'" GridType="Uniform">'
+    if (present(time)) write(u, '(a,es23.16,a)') '     <Time Value="', time, '"/>'
+    write(u, '(a,i0,a)') '     <Topology TopologyType="'//topology(g%etype)// &
+        '" NumberOfElements="', g%nel, '">'
+    write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Int" Dimensions="', &
+        g%nel, g%nen, '">'//h5//conn//'</DataItem>'
+    write(u, '(a)') '     </Topology>'
+    write(u, '(a)') '     <Geometry GeometryType="XY">'
+    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', g%npoints, ' 2">'//h5//geom//'</DataItem>'
+    write(u, '(a)') '     </Geometry>'
+    call attribute(u, 'displacement', prefix, h5, sname, g%npoints)
+    call attribute(u, 'velocity', prefix, h5, sname, g%npoints)
+    write(u, '(a)') '    </Grid>'
+  end subroutine grid
+
+  !> A node vector: the (n, 3) padded copy of the 2-component field.
   subroutine attribute(u, name, prefix, h5, sname, nn)
     integer, intent(in) :: u, nn
     character(len=*), intent(in) :: name, prefix, h5, sname
     write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Vector" Center="Node">'
-    write(u, '(a,i0,a)') '      <DataItem Format="HDF" Precision="8" Dimensions="', nn, &
-        ' 2">'//h5//':/fields/'//sname//'/'//prefix//name//'</DataItem>'
+    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', nn, ' 3">'//h5//':/fields/'//sname//'/'//prefix//name//'_3d</DataItem>'
     write(u, '(a)') '     </Attribute>'
   end subroutine attribute
+
+  !> The sidecar of one block of a model with several: `xdmf_path` with `.<name>` before
+  !! `.xdmf` (results.xdmf -> results.q8.xdmf), for readers that take one mesh per file.
+  function xdmf_block_path(xdmf_path, name) result(path)
+    character(len=*), intent(in) :: xdmf_path, name
+    character(len=:), allocatable :: path
+    integer :: k
+    k = index(xdmf_path, '.xdmf', back=.true.)
+    if (k > 0 .and. k == len(xdmf_path) - 4) then
+      path = xdmf_path(1:k - 1)//'.'//trim(name)//'.xdmf'
+    else
+      path = xdmf_path//'.'//trim(name)
+    end if
+  end function xdmf_block_path
 
   !> XDMF topology name of an element type (element_kind_t%xdmf).
   function topology(etype) result(name)
