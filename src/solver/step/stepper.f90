@@ -15,14 +15,15 @@ module ictus_solver_stepper
   use ictus_core_logger, only: log_info
   use ictus_core_errors, only: warning
   use ictus_core_strings, only: str
-  use ictus_parallel_env, only: env_size, allreduce_sum
+  use ictus_parallel_env, only: env_size, allreduce_sum, allreduce_max
+  use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t, contact_failures
   use ictus_solver_model, only: model_t
   use ictus_solver_domain, only: domain_t
   use ictus_solver_assemble, only: operators_t
   use ictus_solver_mass_operator, only: mass_op_t
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
-      force_kind_name, FORCE_ASSEMBLED
+      force_kind_name, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
@@ -125,6 +126,7 @@ contains
     call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .true.)
     stp%pending = .true.
     if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
+    call check_inverted(stp)
   end subroutine stepper_record
 
   !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
@@ -147,6 +149,7 @@ contains
       else
         call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .false.)
         if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
+        call check_inverted(stp)
         if (len(stp%failure) > 0) return
         call contact_between()
         call step_finish(stp%s, stp%dom)
@@ -180,6 +183,19 @@ contains
       end do
     end subroutine contact_between
   end subroutine stepper_advance
+
+  !> With finite strain, an element whose deformation gradient has det F <= 0 at a quadrature
+  !! point (found by the last internal force, on any rank) is a run-time failure.
+  subroutine check_inverted(stp)
+    type(stepper_t), intent(inout) :: stp
+    integer :: e
+    if (stp%fop%kind /= FORCE_ELEMENT .or. .not. stp%model%nlgeom) return
+    e = stp%fop%el%inverted
+    call allreduce_max(e)
+    if (e > 0) stp%failure = etype_name(stp%model%etype(e))//' element '// &
+        str(stp%model%elem_id(e))//' is inverted (det F <= 0 at a quadrature point): the '// &
+        'mesh is too distorted, or the time step too large for the current stiffness'
+  end subroutine check_inverted
 
   !> The log line of the end of the SWEEP STEPS=AUTO timing.
   subroutine log_tuning(ls)
