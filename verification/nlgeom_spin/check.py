@@ -11,7 +11,10 @@ HRZ mass) and one quadratic NURBS patch (8 x 8 spans, HRZ mass). Expected values
   is conserved exactly (objective internal forces are torque-free), so it stays at its initial
   value to 1e-12 at every field snapshot; the linear momentum stays 0;
 - with small-strain kinematics (NLGEOM=NO) the same run enlarges the body by
-  sqrt(1 + (pi/2)^2) = 1.862: the failure this test exists for, checked here too.
+  sqrt(1 + (pi/2)^2) = 1.862: the failure this test exists for, checked here too;
+- a soft square crushed by a converging velocity field v = -20 (x - x_c) (it would reach zero
+  size at t = 0.05) inverts an element: the run stops with exit 2, naming the element, and the
+  results written so far stay readable.
 """
 import math
 import os
@@ -78,6 +81,27 @@ def nurbs_deck(nlgeom, spans=8):
             + "\n".join(cps) + "\n" + spin_velocities(pts) + step(nlgeom))
 
 
+def crush_deck():
+    mesh = vcheck.rect_mesh(type="Q4", nx=4, ny=4, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5)
+    pts = []
+    in_nodes = False
+    for line in mesh.splitlines():
+        if line.upper().startswith("*NODE"):
+            in_nodes = True
+            continue
+        if line.startswith("*"):
+            in_nodes = False
+        elif in_nodes and line.strip():
+            v = [s.strip() for s in line.split(",")]
+            pts.append((int(v[0]), float(v[1]), float(v[2])))
+    ic = ["*INITIAL CONDITIONS, TYPE=VELOCITY"]
+    for i, x, y in pts:
+        ic += [f"{i}, 1, {-20.0 * x!r}", f"{i}, 2, {-20.0 * y!r}"]
+    return ("*HEADING\ncrushed square\n*MATERIAL, NAME=MAT\n*ELASTIC\n1.0, 0.3\n*DENSITY\n1.0\n"
+            + mesh + "\n".join(ic) + "\n*MASS, TYPE=HRZ\n*STEP, NLGEOM=YES\n"
+            "*DYNAMIC, EXPLICIT\n1e-4, 0.1\n*OUTPUT, HISTORY, EVERY=10\n*END STEP\n")
+
+
 def run(args, name, text):
     path = os.path.join(args.work, name + ".inp")
     with open(path, "w") as f:
@@ -136,6 +160,17 @@ def main():
         growth = np.sqrt(((x ** 2).sum(axis=1)).max() / ((x0 ** 2).sum(axis=1)).max())
         chk.close(growth, math.sqrt(1 + (math.pi / 2) ** 2), 2e-3,
                   f"{tag}, small strain: the body grows by sqrt(1 + (pi/2)^2) = 1.862")
+    path = os.path.join(args.work, "crush.inp")
+    with open(path, "w") as f:
+        f.write(crush_deck())
+    out = os.path.join(args.work, "crush.h5")
+    _, log = vcheck.run_ictus(args, path, out, expect_status=2)
+    chk.true(re.search(r"Q4 element \d+ is inverted \(det F <= 0", log) is not None,
+             "crushed square: exit 2 naming the inverted element")
+    res = vcheck.Results(out)
+    chk.true(res.attr("status").startswith("failed") and len(res.history("time")) > 0
+             and res.history("time")[-1] < 0.05,
+             "crushed square: the results so far are readable, status failed before t = 0.05")
     chk.finish()
 
 
