@@ -22,6 +22,8 @@ module ictus_app_time_loop
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
       stepper_advance
   use ictus_solver_contact_step, only: contact_step_t
+  use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
+  use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_echo, only: deck_echo
@@ -43,6 +45,8 @@ module ictus_app_time_loop
     integer :: restart_every = 0
     real(dp) :: wall_limit = 0.0_dp
     real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
+    !> Whether the small-strain guard has warned (once per run).
+    logical :: rotation_warned = .false.
   end type loop_t
 
 contains
@@ -209,9 +213,26 @@ contains
         if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
         call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, &
             dom%halo%gid(1:dom%nowned), stp%contact)
+        if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
       end if
     end associate
   end subroutine write_outputs
+
+  !> The small-strain guard at a field output: one warning when an element has turned by more
+  !! than ROTATION_LIMIT.
+  subroutine rotation_guard(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    real(dp) :: w
+    integer :: e
+    call largest_rotation(stp%model, stp%dom, stp%s%u, w, e)
+    if (.not. w > ROTATION_LIMIT) return
+    lp%rotation_warned = .true.
+    call warning('small strain', etype_name(stp%model%etype(e))//' element '// &
+        str(stp%model%elem_id(e))//' has turned by '//str(w, 3)//' rad at t = '// &
+        str(stp%s%t, 5)//' (more than '//str(ROTATION_LIMIT, 2)//'): small-strain '// &
+        'kinematics take a rotation for strain (a spun body grows); use *STEP, NLGEOM=YES')
+  end subroutine rotation_guard
 
   !> kinetic + strain + contact (+ plastic work) - external work at the last record.
   pure real(dp) function total_energy(s)

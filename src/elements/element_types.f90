@@ -5,8 +5,8 @@ module ictus_elements_types
   implicit none
   private
   public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, elem_shape_t, &
-      element_kind_t, shape_at_i, rule_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
-      KERNEL_SOLID2D
+      element_kind_t, shape_at_i, rule_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
+      TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
 
   !> Lagrange/serendipity quadrilaterals from *ELEMENT, and NURBS (Bezier-extracted) spans.
   !! Codes index the dispatcher's table (ictus_elements_library); a type registered at run
@@ -16,9 +16,10 @@ module ictus_elements_types
 
   !> Tasks of the element routine (`element_routine`): the scalar consistent mass, the internal
   !! force of the material law, the small-strain stiffness of a linear law, the stress at the
-  !! quadrature points, and the smallest Jacobian determinant.
+  !! quadrature points, the smallest Jacobian determinant, and the largest infinitesimal
+  !! rotation of the displacement gradient (the small-strain guard).
   integer, parameter :: TASK_MASS = 1, TASK_FORCE = 2, TASK_STIFFNESS = 3, TASK_STRESS = 4, &
-      TASK_JACOBIAN = 5
+      TASK_JACOBIAN = 5, TASK_ROTATION = 6
 
   !> Element kernels: the isoparametric 2D solid (ictus_elements_solid2d).
   integer, parameter :: KERNEL_SOLID2D = 1

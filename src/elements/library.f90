@@ -17,12 +17,12 @@ module ictus_elements_library
   use ictus_core_strings, only: upper
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, &
       elem_shape_t, element_kind_t, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
-      TASK_JACOBIAN, KERNEL_SOLID2D
+      TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
   use ictus_elements_quadrature, only: gauss_rule_2d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
   use ictus_elements_iga, only: iga_kind
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
-      solid2d_min_detj, solid2d_geometry, solid2d_force
+      solid2d_min_detj, solid2d_geometry, solid2d_force, solid2d_rotation
   use ictus_materials_law, only: law_t
   use ictus_materials_material, only: material_t
   implicit none
@@ -49,7 +49,8 @@ module ictus_elements_library
     real(dp), allocatable :: p(:,:)
     !> TASK_STRESS: Cauchy stress per quadrature point (6, ngp), (xx, yy, zz, xy, yz, zx).
     real(dp), allocatable :: sig(:,:)
-    !> TASK_MASS: element mass; TASK_FORCE: strain energy; TASK_JACOBIAN: smallest det J.
+    !> TASK_MASS: element mass; TASK_FORCE: strain energy; TASK_JACOBIAN: smallest det J;
+    !! TASK_ROTATION: the largest infinitesimal rotation (rad).
     real(dp) :: scalar = 0.0_dp
     !> 0, or the first quadrature point with det J <= 0 (TASK_JACOBIAN: the point of the
     !! smallest det J).
@@ -259,6 +260,8 @@ contains
       call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr)
     case (TASK_JACOBIAN)
       call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+    case (TASK_ROTATION)
+      call solid2d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
     end select
   end subroutine element_routine
 

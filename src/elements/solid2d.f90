@@ -10,7 +10,7 @@ module ictus_elements_solid2d
   implicit none
   private
   public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume, &
-      solid2d_geometry, solid2d_force
+      solid2d_geometry, solid2d_force, solid2d_rotation
 
 contains
 
@@ -226,6 +226,30 @@ contains
       call law%stress(gradient(nen, dnx, ul), hist(:, g), hist_new, sig(:, g), w)
     end do
   end subroutine solid2d_stress
+
+  !> Largest infinitesimal rotation |du_y/dx - du_x/dy| / 2 over the quadrature points of shp
+  !! (what small-strain kinematics mistake for strain when it grows: the small-strain guard).
+  !! nen; shp; xl(2, nen); ul(2, nen); wmax; ierr: 0, or the first point with det J <= 0.
+  pure subroutine solid2d_rotation(nen, shp, xl, ul, wmax, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), ul(2, nen)
+    real(dp), intent(out) :: wmax
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), detj, grad(3, 3)
+    integer :: g
+    wmax = 0.0_dp
+    ierr = 0
+    do g = 1, shp%ngp
+      call jacobian(nen, shp, xl, g, detj, dnx)
+      if (detj <= 0.0_dp) then
+        ierr = g
+        return
+      end if
+      grad = gradient(nen, dnx, ul)
+      wmax = max(wmax, 0.5_dp*abs(grad(2, 1) - grad(1, 2)))
+    end do
+  end subroutine solid2d_rotation
 
   !> Smallest Jacobian determinant over the quadrature points and where it occurs.
   !! nen; shp; xl(2, nen); detj_min: the minimum det J; igp: its quadrature point.
