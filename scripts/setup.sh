@@ -10,7 +10,7 @@ build_dir=${BUILD_DIR:-$here/build}
 
 packages=(gfortran cmake ninja-build libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   libmetis-dev liblapack-dev libopenblas-dev python3 python3-numpy python3-h5py
-  python3-matplotlib hdf5-tools shellcheck)
+  python3-matplotlib hdf5-tools shellcheck gmsh python3-gmsh)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

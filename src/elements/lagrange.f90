@@ -47,6 +47,8 @@ contains
     k%shape => shape_q9
     call add_alias(k, 'CPE9', ANALYSIS_PLANE_STRAIN, 0)
     call add_alias(k, 'CPS9', ANALYSIS_PLANE_STRESS, 0)
+    ! gmsh's name for its 9-node quadrilateral: a membrane in the plane, so plane stress.
+    call add_alias(k, 'M3D9', ANALYSIS_PLANE_STRESS, 0)
   end function q9_kind
 
   !> Adds an Abaqus deck name: the analysis it implies and its Gauss rule (0: the full one).
