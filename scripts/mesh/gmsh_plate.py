@@ -2,7 +2,7 @@
 """Meshes a plate with a hole with gmsh and writes it in Abaqus .inp form, for *INCLUDE.
 
     /usr/bin/python3 scripts/mesh/gmsh_plate.py OUT.inp [--lx 4] [--ly 2] [--radius 0.5]
-        [--size 0.25] [--order 2] [--complete]
+        [--size 0.25] [--order 2] [--complete] [--node-sets]
 
 The plate [0, lx] x [0, ly] has a circular hole of the given radius at its centre. gmsh
 (Debian python3-gmsh) meshes it with quadrilaterals: Frontal-Delaunay triangles recombined
@@ -14,7 +14,9 @@ CPS4.
 Physical groups, written by gmsh as element sets: PLATE (the surface), LEFT (x = 0), RIGHT
 (x = lx), BOTTOM (y = 0), TOP (y = ly) and HOLE (the circle). The curves are written as line
 elements (T3D2, or T3D3 at order 2), which ictus reads as sets of boundary nodes; the surface
-as CPS elements, plane stress. Nothing else is needed from gmsh: the deck adds the materials,
+as CPS elements, plane stress. --node-sets also writes an *NSET per group
+(Mesh.SaveGroupsOfNodes, what CalculiX users ask for), beside the *ELSET of the same name:
+ictus takes the pair as one set. Nothing else is needed from gmsh: the deck adds the materials,
 the section, the conditions and the step (doc/user-guide.md, "Coming from Abaqus, CalculiX
 and gmsh").
 
@@ -34,6 +36,7 @@ def main():
     ap.add_argument("--size", type=float, default=0.25, help="target element size")
     ap.add_argument("--order", type=int, choices=(1, 2), default=2)
     ap.add_argument("--complete", action="store_true", help="9-node quadrilaterals")
+    ap.add_argument("--node-sets", action="store_true", help="an *NSET per physical group too")
     a = ap.parse_args()
     if not (a.lx > 0 and a.ly > 0 and a.size > 0 and 0 < a.radius < 0.5 * min(a.lx, a.ly)):
         sys.exit("gmsh_plate.py: expected lx, ly, size > 0 and 0 < radius < min(lx, ly) / 2")
@@ -79,6 +82,7 @@ def main():
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.5 * a.size)
     gmsh.option.setNumber("Mesh.ElementOrder", a.order)
     gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0 if a.complete else 1)
+    gmsh.option.setNumber("Mesh.SaveGroupsOfNodes", 1 if a.node_sets else 0)
     gmsh.model.mesh.generate(2)
     gmsh.write(a.out)
     gmsh.finalize()

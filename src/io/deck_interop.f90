@@ -23,7 +23,7 @@ module ictus_io_deck_interop
       count_ok, tok_real
   implicit none
   private
-  public :: read_solid_section, refused_card, resolve_interop
+  public :: read_solid_section, refused_card, resolve_interop, resolve_twins
 
   !> Deepest nesting of element-set references followed (deeper: a cycle, reported by
   !! check_deck).
@@ -127,12 +127,131 @@ contains
     logical, intent(in) :: materials_broken
     integer :: n0
     n0 = error_count()
+    call resolve_twins(d, .true.)
     call resolve_analysis(d)
     call resolve_edges(d)
     call resolve_thickness(d)
     if (d%n_sections > 0) call resolve_sections(d)
     if (.not. materials_broken .and. error_count() == n0) call check_unassigned(d)
   end subroutine resolve_interop
+
+  !> An *NSET and an *ELSET of one name (a `twin` set, see set_index): allowed when the node
+  !! set holds exactly the nodes of the element set's elements, as gmsh writes each physical
+  !! group with Mesh.SaveGroupsOfNodes; the element set then stands for both. Otherwise (or
+  !! when `compare` is false: the elements had errors) the later one is reported. Twin records
+  !! are removed either way.
+  subroutine resolve_twins(d, compare)
+    type(deck_t), intent(inout) :: d
+    logical, intent(in) :: compare
+    logical, allocatable :: drop(:)
+    integer, allocatable :: map(:,:)
+    integer :: k, j, e, elo
+    allocate(drop(d%n_sets))
+    drop = .false.
+    if (.not. any(d%sets(1:d%n_sets)%twin)) return
+    if (compare) call element_map(d, map, elo)
+    do k = 1, d%n_sets
+      if (.not. d%sets(k)%twin) cycle
+      drop(k) = .true.
+      do j = 1, d%n_sets
+        if (j == k .or. d%sets(j)%name /= d%sets(k)%name .or. d%sets(j)%twin) cycle
+        e = merge(j, k, d%sets(j)%kind == SET_ELEMENT)
+        if (compare) then
+          if (same_nodes(d, d%sets(k + j - e), d%sets(e), map, elo)) then
+            drop(k + j - e) = .true.
+            drop(e) = .false.
+            exit
+          end if
+        end if
+        call input_error(d%sets(k)%where, '*'//trim(merge('NSET ', 'ELSET', &
+            d%sets(k)%kind == SET_NODE))//': name '//trim(d%sets(k)%name)// &
+            ' is already used by an '//trim(merge('ELSET', 'NSET ', d%sets(k)%kind == &
+            SET_NODE))//' (first defined at '//trim(d%sets(j)%where)//'; an *NSET and an '// &
+            '*ELSET may share a name only when the node set holds exactly the nodes of the '// &
+            'elements)')
+        exit
+      end do
+    end do
+    d%sets = pack(d%sets(1:d%n_sets), .not. drop)
+    d%n_sets = size(d%sets)
+  end subroutine resolve_twins
+
+  !> True when node set `sn` (ids only) holds exactly the nodes of the elements of element set
+  !! `se` (ids only, solid or line elements). `map` finds an element: map(1, id) its block
+  !! (blocks, then line-element blocks after them), map(2, id) its place; 0: none.
+  logical function same_nodes(d, sn, se, map, elo) result(same)
+    type(deck_t), intent(in) :: d
+    type(set_in_t), intent(in) :: sn, se
+    integer, intent(in) :: elo
+    integer, intent(in) :: map(:, elo:)
+    logical, allocatable :: in_n(:), in_e(:)
+    integer :: lo, hi, j, k, e, id
+    same = .false.
+    if (size(sn%refs) > 0 .or. size(se%refs) > 0 .or. len_trim(sn%patch) > 0) return
+    if (size(sn%ids) == 0 .or. size(se%ids) == 0) return
+    lo = minval(sn%ids)
+    hi = maxval(sn%ids)
+    if (int(hi, i8) - lo > 50000000_i8) return
+    allocate(in_n(lo:hi), in_e(lo:hi))
+    in_n = .false.
+    in_e = .false.
+    in_n(sn%ids) = .true.
+    do j = 1, size(se%ids)
+      id = se%ids(j)
+      if (id < elo .or. id > ubound(map, 2)) return
+      k = map(1, id)
+      e = map(2, id)
+      if (k == 0) then
+        return
+      else if (k <= d%n_blocks) then
+        if (any(d%blocks(k)%conn(:, e) < lo .or. d%blocks(k)%conn(:, e) > hi)) return
+        in_e(d%blocks(k)%conn(:, e)) = .true.
+      else
+        k = k - d%n_blocks
+        if (any(d%edges(k)%conn(:, e) < lo .or. d%edges(k)%conn(:, e) > hi)) return
+        in_e(d%edges(k)%conn(:, e)) = .true.
+      end if
+    end do
+    same = all(in_n .eqv. in_e)
+  end function same_nodes
+
+  !> The element map of `same_nodes` over the ids elo..ehi of solid and line elements; empty
+  !! (ehi < elo) when the ids spread over more than 5e7.
+  subroutine element_map(d, map, elo)
+    type(deck_t), intent(in) :: d
+    integer, allocatable, intent(out) :: map(:,:)
+    integer, intent(out) :: elo
+    integer :: k, e, ehi
+    elo = huge(1)
+    ehi = -huge(1)
+    do k = 1, d%n_blocks
+      if (size(d%blocks(k)%ids) == 0) cycle
+      elo = min(elo, minval(d%blocks(k)%ids))
+      ehi = max(ehi, maxval(d%blocks(k)%ids))
+    end do
+    do k = 1, d%n_edges
+      if (size(d%edges(k)%ids) == 0) cycle
+      elo = min(elo, minval(d%edges(k)%ids))
+      ehi = max(ehi, maxval(d%edges(k)%ids))
+    end do
+    if (ehi < elo .or. int(ehi, i8) - elo > 50000000_i8) then
+      elo = 1
+      allocate(map(2, 1:0))
+      return
+    end if
+    allocate(map(2, elo:ehi))
+    map = 0
+    do k = 1, d%n_blocks
+      do e = 1, size(d%blocks(k)%ids)
+        map(:, d%blocks(k)%ids(e)) = [k, e]
+      end do
+    end do
+    do k = 1, d%n_edges
+      do e = 1, size(d%edges(k)%ids)
+        map(:, d%edges(k)%ids(e)) = [d%n_blocks + k, e]
+      end do
+    end do
+  end subroutine element_map
 
   !> The analysis implied by CPE*/CPS* element names: one for all of them, and the same as
   !! *ANALYSIS, TYPE= when that is given; without it, the names set the analysis.

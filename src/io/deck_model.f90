@@ -529,24 +529,21 @@ contains
     ok = .true.
   end function read_surface_faces
 
-  !> Index of set `name` (created empty when new). 0, with a message, when the name is
-  !! already used by a set of the other kind.
+  !> Index of set `name` of `kind` (created empty when new). A set of the other kind with the
+  !! same name makes the new one a `twin`, settled by ictus_io_deck_interop once the deck is
+  !! read (allowed when both hold the same nodes, as gmsh writes them).
   integer function set_index(d, name, kind, where) result(k)
     type(deck_t), intent(inout) :: d
     character(len=*), intent(in) :: name, where
     integer, intent(in) :: kind
     integer :: j
+    logical :: twin
+    twin = .false.
     do j = 1, d%n_sets
       if (d%sets(j)%name == name) then
         k = j
-        if (d%sets(j)%kind /= kind) then
-          call input_error(where, '*'//trim(merge('NSET ', 'ELSET', kind == SET_NODE))// &
-              ': name '//trim(name)//' is already used by an '// &
-              trim(merge('ELSET', 'NSET ', kind == SET_NODE))//' (first defined at '// &
-              trim(d%sets(j)%where)//')')
-          k = 0
-        end if
-        return
+        if (d%sets(j)%kind == kind) return
+        twin = .true.
       end if
     end do
     call grow_sets(d%sets, d%n_sets + 1)
@@ -555,6 +552,7 @@ contains
     d%sets(k)%name = name
     d%sets(k)%kind = kind
     d%sets(k)%where = where
+    d%sets(k)%twin = twin
     allocate(d%sets(k)%ids(0), d%sets(k)%refs(0), d%sets(k)%ref_where(0))
   end function set_index
 

@@ -35,7 +35,8 @@ module ictus_io_deck_reader
       read_damping
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
   use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall
-  use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop
+  use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop, &
+      resolve_twins
   use ictus_io_deck_step, only: read_step, read_dynamic, read_output, read_restart, &
       read_end_step
   implicit none
@@ -159,8 +160,11 @@ contains
     deck%pairs = deck%pairs(1:deck%n_pairs)
     deck%walls = deck%walls(1:deck%n_walls)
     deck%edges = deck%edges(1:deck%n_edges)
-    if (iand(rd%broken, SKIP_ELEMENTS) == 0) call resolve_interop(deck, &
-        iand(rd%broken, SKIP_MATERIALS) /= 0)
+    if (iand(rd%broken, SKIP_ELEMENTS) == 0) then
+      call resolve_interop(deck, iand(rd%broken, SKIP_MATERIALS) /= 0)
+    else
+      call resolve_twins(deck, .false.)
+    end if
     call check_deck(deck, rd%broken)
   end subroutine finish_deck
 

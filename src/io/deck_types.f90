@@ -95,6 +95,9 @@ module ictus_io_deck_types
     character(len=str_len) :: patch = ''
     integer :: side = SIDE_NONE
     character(len=where_len) :: where = ''
+    !> A second set of the other kind with the same name (an *NSET and an *ELSET), settled
+    !! after the deck is read (ictus_io_deck_interop).
+    logical :: twin = .false.
   end type set_in_t
 
   !> *SURFACE.

@@ -12,7 +12,10 @@ input/interop/plate_gmsh.inp includes that file unchanged and runs:
 3. every node of the LEFT edge stays fixed in x and y (the T3D3 set read as a node set);
 4. the free vibration keeps kinetic + strain energy constant to 1%;
 5. the other exports of the script run too: 9-node quadrilaterals (gmsh writes them as M3D9,
-   read as Q9, plane stress) and linear ones (CPS4 with T3D2 edges), with their mass.
+   read as Q9, plane stress) and linear ones (CPS4 with T3D2 edges), with their mass;
+6. with Mesh.SaveGroupsOfNodes (--node-sets) gmsh adds an *NSET beside each *ELSET of the
+   same name: the run is bit for bit the run without them (but for the title and the
+   processed deck, which hold the path of the mesh file, gmsh's *Heading).
 Without gmsh the case is skipped (exit status 77, a message says what to install).
 """
 import os
@@ -66,6 +69,23 @@ def main():
     e = r.history("energy/total")
     chk.below(float(np.max(np.abs(e - e[0])) / e[0]), 1e-2,
               "free vibration, max |E_total - E_0| / E_0")
+
+    sub = os.path.join(args.work, "node_sets")
+    os.makedirs(sub, exist_ok=True)
+    subprocess.run([sys.executable, os.path.join(vcheck.ROOT, "scripts", "mesh", "gmsh_plate.py"),
+                    os.path.join(sub, "plate_gmsh_mesh.inp"), "--lx", str(LX), "--ly", str(LY),
+                    "--radius", str(R), "--node-sets"], check=True)
+    with open(os.path.join(sub, "plate_gmsh_mesh.inp")) as f:
+        nsets = re.findall(r"^\*NSET, *NSET=(\w+)", f.read(), re.I | re.M)
+    shutil.copy(deck, sub)
+    vcheck.run_ictus(args, os.path.join(sub, "plate_gmsh.inp"), os.path.join(sub, "plate_gmsh.h5"))
+    cmp = subprocess.run([sys.executable, os.path.join(vcheck.ROOT, "scripts", "compare_results.py"),
+                          out, os.path.join(sub, "plate_gmsh.h5"), "--ignore-attr", "title",
+                          "--ignore-attr", "deck"], stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
+    print("    " + cmp.stdout.strip())
+    chk.true(sorted(nsets) == sorted(sets) and cmp.returncode == 0,
+             f"--node-sets: *NSET {sorted(nsets)} beside the *ELSETs; results identical")
 
     for opts, want, rtol, note in ((["--complete"], ["M3D9", "T3D3"], 1e-4, ""),
                                    (["--order", "1"], ["CPS4", "T3D2"], 1e-2,
