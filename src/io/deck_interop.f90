@@ -215,6 +215,18 @@ contains
     same = all(in_n .eqv. in_e)
   end function same_nodes
 
+  !> Widens lo..hi to the element ids of `blocks`.
+  subroutine id_range(blocks, lo, hi)
+    type(element_block_in_t), intent(in) :: blocks(:)
+    integer, intent(inout) :: lo, hi
+    integer :: k
+    do k = 1, size(blocks)
+      if (size(blocks(k)%ids) == 0) cycle
+      lo = min(lo, minval(blocks(k)%ids))
+      hi = max(hi, maxval(blocks(k)%ids))
+    end do
+  end subroutine id_range
+
   !> The element map of `same_nodes` over the ids elo..ehi of solid and line elements; empty
   !! (ehi < elo) when the ids spread over more than 5e7.
   subroutine element_map(d, map, elo)
@@ -224,16 +236,8 @@ contains
     integer :: k, e, ehi
     elo = huge(1)
     ehi = -huge(1)
-    do k = 1, d%n_blocks
-      if (size(d%blocks(k)%ids) == 0) cycle
-      elo = min(elo, minval(d%blocks(k)%ids))
-      ehi = max(ehi, maxval(d%blocks(k)%ids))
-    end do
-    do k = 1, d%n_edges
-      if (size(d%edges(k)%ids) == 0) cycle
-      elo = min(elo, minval(d%edges(k)%ids))
-      ehi = max(ehi, maxval(d%edges(k)%ids))
-    end do
+    call id_range(d%blocks(1:d%n_blocks), elo, ehi)
+    call id_range(d%edges(1:d%n_edges), elo, ehi)
     if (ehi < elo .or. int(ehi, i8) - elo > 50000000_i8) then
       elo = 1
       allocate(map(2, 1:0))
@@ -461,11 +465,7 @@ contains
     logical :: dense
     lo = huge(1)
     hi = -huge(1)
-    do ib = 1, d%n_blocks
-      if (size(d%blocks(ib)%ids) == 0) cycle
-      lo = min(lo, minval(d%blocks(ib)%ids))
-      hi = max(hi, maxval(d%blocks(ib)%ids))
-    end do
+    call id_range(d%blocks(1:d%n_blocks), lo, hi)
     if (hi < lo) return
     dense = int(hi, i8) - lo < 50000000_i8
     if (dense) then
