@@ -10,7 +10,7 @@ build_dir=${BUILD_DIR:-$here/build}
 
 packages=(gfortran cmake ninja-build libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   libmetis-dev liblapack-dev libopenblas-dev python3 python3-numpy python3-h5py
-  python3-matplotlib python3-meshio hdf5-tools shellcheck)
+  python3-matplotlib python3-meshio hdf5-tools shellcheck gmsh python3-gmsh)
 # For the ParaView test of the XDMF sidecar (scripts/xdmf_paraview, skipped without them):
 # about 135 MB to download, 700 MB installed, 45 s here. Tried, not required: set
 # ICTUS_NO_PARAVIEW=1 to leave them out.

@@ -63,6 +63,13 @@ module ictus_elements_types
     !> Deck name (TYPE= on *ELEMENT) and the name of its XDMF topology.
     character(len=16) :: name = '?'
     character(len=16) :: xdmf = ''
+    !> Other deck names of the type (the Abaqus names, deck format 2): for each, the analysis
+    !! it implies (ANALYSIS_PLANE_STRAIN or _STRESS of ictus_materials_law; 0: none) and its
+    !! Gauss points per direction (0: the type's full rule).
+    integer :: naliases = 0
+    character(len=16) :: alias(6) = ''
+    integer :: alias_analysis(6) = 0
+    integer :: alias_gauss(6) = 0
     !> Spatial dimension, nodes (0: set by the NURBS degrees), corner nodes.
     integer :: ndm = 2
     integer :: nen = 0

@@ -8,6 +8,7 @@ module ictus_elements_lagrange
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t, element_kind_t, &
       KERNEL_SOLID2D
   use ictus_elements_quadrature, only: gauss_rule_2d
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   implicit none
   private
   public :: lagrange_shape, lagrange_shape_data, lagrange_face_nodes, lagrange_node_xi, &
@@ -26,19 +27,40 @@ contains
     type(element_kind_t) :: k
     k = quad_kind('Q4', 'Quadrilateral', 4, 2, 1, .false.)
     k%shape => shape_q4
+    call add_alias(k, 'CPE4', ANALYSIS_PLANE_STRAIN, 0)
+    call add_alias(k, 'CPS4', ANALYSIS_PLANE_STRESS, 0)
   end function q4_kind
 
   function q8_kind() result(k)
     type(element_kind_t) :: k
     k = quad_kind('Q8', 'Quadrilateral_8', 8, 3, 2, .false.)
     k%shape => shape_q8
+    call add_alias(k, 'CPE8', ANALYSIS_PLANE_STRAIN, 0)
+    call add_alias(k, 'CPS8', ANALYSIS_PLANE_STRESS, 0)
+    call add_alias(k, 'CPE8R', ANALYSIS_PLANE_STRAIN, 2)
+    call add_alias(k, 'CPS8R', ANALYSIS_PLANE_STRESS, 2)
   end function q8_kind
 
   function q9_kind() result(k)
     type(element_kind_t) :: k
     k = quad_kind('Q9', 'Quadrilateral_9', 9, 3, 2, .true.)
     k%shape => shape_q9
+    call add_alias(k, 'CPE9', ANALYSIS_PLANE_STRAIN, 0)
+    call add_alias(k, 'CPS9', ANALYSIS_PLANE_STRESS, 0)
+    ! gmsh's name for its 9-node quadrilateral: a membrane in the plane, so plane stress.
+    call add_alias(k, 'M3D9', ANALYSIS_PLANE_STRESS, 0)
   end function q9_kind
+
+  !> Adds an Abaqus deck name: the analysis it implies and its Gauss rule (0: the full one).
+  subroutine add_alias(k, name, analysis, gauss)
+    type(element_kind_t), intent(inout) :: k
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: analysis, gauss
+    k%naliases = k%naliases + 1
+    k%alias(k%naliases) = name
+    k%alias_analysis(k%naliases) = analysis
+    k%alias_gauss(k%naliases) = gauss
+  end subroutine add_alias
 
   !> The common part of the three quadrilaterals: 4 corners, 4 faces from corner k to k + 1
   !! (with midside k + 4 for the quadratic ones).

@@ -28,6 +28,7 @@ module ictus_elements_library
   implicit none
   private
   public :: element_kind, element_register, element_type_count, etype_name, etype_nen, element_type_of, element_default_ngauss, &
+      element_type_named, element_abaqus_names, &
       element_shape_data, element_shape_rule, element_routine, element_out_t, &
       element_geometry, element_force, element_omega_max, element_types_named
 
@@ -151,6 +152,47 @@ contains
       end if
     end do
   end function element_type_of
+
+  !> The finite-element type with deck name `name` (any case), its own name or one of its
+  !! Abaqus names (`alias` of its description): its code (0 when none), the analysis the name
+  !! implies (0: none) and its Gauss points per direction (0: the type's full rule).
+  subroutine element_type_named(name, etype, analysis, gauss)
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: etype, analysis, gauss
+    integer :: t, a
+    etype = element_type_of(name)
+    analysis = 0
+    gauss = 0
+    if (etype > 0) return
+    do t = 1, ntypes
+      if (table(t)%nen == 0) cycle
+      do a = 1, table(t)%naliases
+        if (trim(table(t)%alias(a)) == upper(trim(name))) then
+          etype = t
+          analysis = table(t)%alias_analysis(a)
+          gauss = table(t)%alias_gauss(a)
+          return
+        end if
+      end do
+    end do
+  end subroutine element_type_named
+
+  !> The Abaqus names of the finite-element types, for messages: "CPE4, CPS4 (Q4), ...".
+  function element_abaqus_names() result(list)
+    character(len=:), allocatable :: list
+    integer :: t, a
+    call fill_table()
+    list = ''
+    do t = 1, ntypes
+      if (table(t)%nen == 0 .or. table(t)%naliases == 0) cycle
+      if (len(list) > 0) list = list//', '
+      do a = 1, table(t)%naliases
+        if (a > 1) list = list//', '
+        list = list//trim(table(t)%alias(a))
+      end do
+      list = list//' ('//trim(table(t)%name)//')'
+    end do
+  end function element_abaqus_names
 
   !> The deck names of the finite-element types, comma separated (for messages).
   function element_types_named() result(list)

@@ -55,6 +55,7 @@ contains
     call check_patches(d, skip)
     call check_sets(d, names)
     call check_uses(d, names)
+    call check_sections(d, names, iand(skip, SKIP_MATERIALS) /= 0)
   end subroutine check_deck
 
   !> The law of material m against the step: *HYPERELASTIC needs NLGEOM=YES; *PLASTIC needs
@@ -82,6 +83,21 @@ contains
         'material '//trim(m%name)//' is '//trim(merge('nonlinear        ', &
         'in finite strain ', m%has_plastic .or. m%has_hyperelastic))//' (use AUTO or ELEMENT)')
   end subroutine check_laws
+
+  !> *SOLID SECTION: its element set and its material are defined.
+  subroutine check_sections(d, names, skip_materials)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(in) :: names
+    logical, intent(in) :: skip_materials
+    integer :: k
+    do k = 1, d%n_sections
+      call need(names, d%sections(k)%elset, NAME_ELSET, 'element set', d%sections(k)%where, &
+          '*SOLID SECTION')
+      if (.not. skip_materials .and. .not. has_material(d, d%sections(k)%material)) &
+          call input_error(d%sections(k)%where, '*SOLID SECTION: material '// &
+          trim(d%sections(k)%material)//' is used but never defined')
+    end do
+  end subroutine check_sections
 
   !> Builds the table of set, patch and surface names.
   subroutine collect_names(d, t)
@@ -172,6 +188,8 @@ contains
     end do
     if (skip_undefined) return
     do k = 1, d%n_blocks
+      if (len_trim(d%blocks(k)%material) == 0) cycle
+      if (any(d%sections(1:d%n_sections)%material == d%blocks(k)%material)) cycle
       if (.not. has_material(d, d%blocks(k)%material)) call input_error(d%blocks(k)%where, &
           '*ELEMENT: material '//trim(d%blocks(k)%material)//' is used but never defined')
     end do

@@ -5,7 +5,7 @@ module ictus_io_deck_conditions
   use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: str
-  use ictus_io_deck_lexer, only: token_t, line_where, split_values
+  use ictus_io_deck_lexer, only: token_t, line_where, split_values, split_fields
   use ictus_io_deck_types, only: deck_t, boundary_in_t, velocity_in_t
   use ictus_io_deck_card, only: card_t, reader_t, check_params, get_choice, has_data, &
       count_ok, tok_int, tok_real, tok_target
@@ -23,6 +23,7 @@ contains
     type(deck_t), intent(inout) :: d
     character(len=*), parameter :: expect = &
         '*BOUNDARY: expected "node set or node id, first dof, last dof[, value]"'
+    ! An empty or absent last dof is the first dof, an empty value 0 (Abaqus).
     type(boundary_in_t) :: b
     type(token_t), allocatable :: toks(:)
     character(len=:), allocatable :: w
@@ -33,14 +34,21 @@ contains
     if (.not. has_data(c, expect)) return
     do i = c%first, c%last
       w = line_where(rd%src, i)
-      call split_values(rd%src%lines(i)%text, toks, n)
-      if (.not. count_ok(n, 3, 4, expect, w)) return
+      call split_fields(rd%src%lines(i)%text, toks, n)
+      if (.not. count_ok(n, 2, 4, expect, w)) return
       if (.not. tok_target(toks, 1, expect, w, b%target)) return
       if (.not. tok_int(toks, 2, expect, w, b%first_dof)) return
-      if (.not. tok_int(toks, 3, expect, w, b%last_dof)) return
+      b%last_dof = b%first_dof
+      if (n >= 3) then
+        if (len(toks(3)%s) > 0) then
+          if (.not. tok_int(toks, 3, expect, w, b%last_dof)) return
+        end if
+      end if
       b%value = 0.0_dp
       if (n == 4) then
-        if (.not. tok_real(toks, 4, expect, w, b%value)) return
+        if (len(toks(4)%s) > 0) then
+          if (.not. tok_real(toks, 4, expect, w, b%value)) return
+        end if
       end if
       if (b%first_dof < 1 .or. b%first_dof > 2 .or. b%last_dof < 1 .or. b%last_dof > 2 &
           .or. b%first_dof > b%last_dof) then

@@ -14,7 +14,7 @@ module ictus_io_deck_lexer
   implicit none
   private
   public :: token_t, deck_line_t, deck_source_t, param_t, keyword_t, load_deck, line_where, &
-      parse_keyword, split_values, parse_real, parse_int, is_number, shown, collapse_blanks
+      parse_keyword, split_values, split_fields, parse_real, parse_int, is_number, shown, collapse_blanks
 
   !> A variable-length string (one value token, or one file path).
   type :: token_t
@@ -416,6 +416,47 @@ contains
       end if
     end do
   end subroutine split_values
+
+  !> Splits a data line into fields for cards whose fields have defaults (deck format 2): like
+  !! `split_values`, but an empty field between commas (or before the first comma) is kept as
+  !! an empty token, meaning "the default". An empty field after the last comma is dropped
+  !! (a trailing comma ends the line).
+  subroutine split_fields(text, toks, n)
+    character(len=*), intent(in) :: text
+    type(token_t), allocatable, intent(out) :: toks(:)
+    integer, intent(out) :: n
+    type(token_t), allocatable :: part(:), tmp(:)
+    integer :: pos, next, m, k
+    character(len=:), allocatable :: field
+
+    allocate(toks(8))
+    n = 0
+    pos = 1
+    do
+      next = index(text(pos:), ',')
+      if (next == 0) then
+        field = text(pos:)
+      else
+        field = text(pos:pos + next - 2)
+      end if
+      call split_values(field, part, m)
+      if (m == 0 .and. next /= 0) then
+        m = 1
+        part(1)%s = ''
+      end if
+      if (n + m > size(toks)) then
+        allocate(tmp(2*(n + m)))
+        tmp(1:n) = toks(1:n)
+        call move_alloc(tmp, toks)
+      end if
+      do k = 1, m
+        toks(n + k)%s = part(k)%s
+      end do
+      n = n + m
+      if (next == 0) exit
+      pos = pos + next
+    end do
+  end subroutine split_fields
 
   !> True when `s` is a well-formed number (integer or real).
   pure logical function is_number(s)

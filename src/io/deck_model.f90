@@ -9,21 +9,23 @@ module ictus_io_deck_model
   use ictus_core_kinds, only: dp, i8, str_len
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: upper, str
-  use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_int, shown
+  use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_int, shown, &
+      collapse_blanks
+  use ictus_elements_library, only: element_type_named, element_types_named, &
+      element_abaqus_names
   use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
       where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, &
       etype_nen, etype_name, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
       SIDE_ETA1, SIDE_ALL, SURF_ELEMENT, SURF_PATCH
   use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
-      has_param, has_flag, get_name, get_choice, get_ints, get_reals, no_data, has_data, &
+      has_param, has_flag, get_param, get_name, get_choice, get_ints, get_reals, no_data, has_data, &
       count_ok, tok_int, tok_real, tok_name, plural
   use ictus_io_deck_grow, only: grow_blocks, grow_sets, grow_surfaces
   implicit none
   private
   public :: read_heading, read_analysis, read_node, read_element, read_set, read_surface
 
-  !> Codes of the choices of TYPE= (*ELEMENT) and SIDE=, in list order.
-  integer, parameter :: etype_codes(3) = [ETYPE_Q4, ETYPE_Q8, ETYPE_Q9]
+  !> Codes of the choices of SIDE=, in list order.
   integer, parameter :: side_codes(5) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL]
 
 contains
@@ -59,9 +61,11 @@ contains
     call get_choice(c, 'TYPE', 'PLANE STRAIN|PLANE STRESS', kind)
     if (kind == 1) d%analysis = ANALYSIS_PLANE_STRAIN
     if (kind == 2) d%analysis = ANALYSIS_PLANE_STRESS
+    if (kind > 0) d%analysis_where = c%where
     if (get_reals(c, 'THICKNESS', 1, 'a number t > 0', t)) then
       if (t(1) > 0.0_dp) then
         d%thickness = t(1)
+        d%thickness_where = c%where
       else
         call card_error(c, 'THICKNESS='//str(t(1))//' must be > 0')
       end if
@@ -73,7 +77,7 @@ contains
   ! Nodes and elements
   ! ------------------------------------------------------------------------------------------
 
-  !> *NODE [, NSET=name]: data lines "id, x, y".
+  !> *NODE [, NSET=name]: data lines "id, x, y" or "id, x, y, z" with z = 0.
   subroutine read_node(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -82,7 +86,7 @@ contains
     character(len=str_len) :: nset
     type(token_t), allocatable :: toks(:)
     integer :: i, n, id, n0
-    real(dp) :: x, y
+    real(dp) :: x, y, z
 
     call check_params(c, 'NSET', '')
     call get_name(c, 'NSET', .false., nset)
@@ -97,10 +101,18 @@ contains
             plural(n)//' (a node needs 2 coordinates)')
         exit
       end if
-      if (.not. count_ok(n, 3, 3, expect, line_where(rd%src, i))) exit
+      if (.not. count_ok(n, 3, 4, expect, line_where(rd%src, i))) exit
       if (.not. tok_int(toks, 1, expect, line_where(rd%src, i), id)) exit
       if (.not. tok_real(toks, 2, expect, line_where(rd%src, i), x)) exit
       if (.not. tok_real(toks, 3, expect, line_where(rd%src, i), y)) exit
+      if (n == 4) then
+        if (.not. tok_real(toks, 4, expect//' or "id, x, y, z"', line_where(rd%src, i), z)) exit
+        if (z /= 0.0_dp) then
+          call input_error(line_where(rd%src, i), '*NODE: node '//str(id)//' has z = '// &
+              str(z)//', but the analysis is 2D (expected z = 0, or "id, x, y")')
+          exit
+        end if
+      end if
       if (id <= 0) then
         call input_error(line_where(rd%src, i), '*NODE: node id must be > 0, found '//str(id))
         exit
@@ -135,8 +147,10 @@ contains
     rd%node_cap = cap
   end subroutine reserve_nodes
 
-  !> *ELEMENT, TYPE=Q4|Q8|Q9, MATERIAL=name [, ELSET=name] [, GAUSS=2|3]: data lines
-  !! "id, n1, ..., nen". Data lines from different files go to separate blocks.
+  !> *ELEMENT, TYPE=Q4|Q8|Q9 (or an Abaqus name), [MATERIAL=name] [, ELSET=name]
+  !! [, GAUSS=2|3]: data lines "id, n1, ..., nen". Data lines from different files go to
+  !! separate blocks. Line elements (T3D2, T3D3, as gmsh writes a boundary) go to
+  !! `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
   subroutine read_element(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -145,28 +159,31 @@ contains
     type(element_block_in_t) :: b
     type(token_t), allocatable :: toks(:)
     character(len=:), allocatable :: w
-    integer :: kind, i, n, k, nel, g(1), file, id, conn(9)
+    integer :: i, n, k, nel, g(1), file, id, conn(9), gauss
     logical :: ok
 
     call check_params(c, 'TYPE|ELSET|MATERIAL|GAUSS', '')
-    call get_choice(c, 'TYPE', 'Q4|Q8|Q9', kind, required=.true.)
-    if (kind > 0) b%etype = etype_codes(kind)
-    call get_name(c, 'MATERIAL', .true., b%material)
+    call get_element_type(c, b, gauss)
+    call get_name(c, 'MATERIAL', .false., b%material)
     call get_name(c, 'ELSET', .false., b%elset)
     if (get_ints(c, 'GAUSS', 1, '2 or 3 points per direction', g)) then
-      if (g(1) == 2 .or. g(1) == 3) then
-        b%gauss = g(1)
-      else
+      if (g(1) /= 2 .and. g(1) /= 3) then
         call card_error(c, 'bad value GAUSS='//str(g(1))//' (expected 2 or 3)')
+      else if (gauss > 0 .and. g(1) /= gauss) then
+        call card_error(c, 'GAUSS='//str(g(1))//' contradicts TYPE='//trim(b%type_name)// &
+            ' ('//str(gauss)//'x'//str(gauss)//' Gauss points)')
+      else
+        b%gauss = g(1)
       end if
     end if
-    if (c%bad .or. kind == 0) return
-    b%nen = etype_nen(b%etype)
-    if (b%gauss == 0) b%gauss = merge(2, 3, b%etype == ETYPE_Q4)
+    if (c%bad .or. b%nen == 0) return
+    if (b%gauss == 0) b%gauss = gauss
+    if (b%gauss == 0 .and. b%etype > 0) b%gauss = merge(2, 3, b%etype == ETYPE_Q4)
     expect = '*ELEMENT: expected "id, n1, ..., n'//str(b%nen)//'" (TYPE='// &
-        etype_name(b%etype)//': '//str(b%nen + 1)//' integers)'
+        trim(b%type_name)//': '//str(b%nen + 1)//' integers)'
     if (.not. has_data(c, expect)) return
     b%where = c%where
+    b%analysis_where = c%where
     nel = 0
     file = 0
     allocate(b%ids(c%last - c%first + 1), b%conn(b%nen, c%last - c%first + 1), &
@@ -226,9 +243,24 @@ contains
     type(deck_t), intent(inout) :: d
     type(element_block_in_t), intent(inout) :: b
     integer, intent(inout) :: nel
-    call grow_blocks(d%blocks, d%n_blocks + 1)
-    d%n_blocks = d%n_blocks + 1
-    associate (nb => d%blocks(d%n_blocks))
+    if (b%etype == 0) then
+      call grow_blocks(d%edges, d%n_edges + 1)
+      d%n_edges = d%n_edges + 1
+      call copy_block(d%edges(d%n_edges), b, nel)
+    else
+      call grow_blocks(d%blocks, d%n_blocks + 1)
+      d%n_blocks = d%n_blocks + 1
+      call copy_block(d%blocks(d%n_blocks), b, nel)
+    end if
+    nel = 0
+  end subroutine push_block
+
+  !> The first `nel` elements of `b` into `nb`.
+  subroutine copy_block(nb, b, nel)
+    type(element_block_in_t), intent(inout) :: nb
+    type(element_block_in_t), intent(in) :: b
+    integer, intent(in) :: nel
+    associate (nb => nb)
       nb%etype = b%etype
       nb%nen = b%nen
       nb%elset = b%elset
@@ -239,9 +271,39 @@ contains
       nb%line = b%line(1:nel)
       nb%file = b%file
       nb%where = b%where
+      nb%analysis = b%analysis
+      nb%analysis_where = b%analysis_where
+      nb%type_name = b%type_name
     end associate
-    nel = 0
-  end subroutine push_block
+  end subroutine copy_block
+
+  !> TYPE= of *ELEMENT: a type of the element library by its name or Abaqus name (b%etype,
+  !! b%nen, b%analysis it implies; `gauss` the rule the name implies, 0: the type's own), or a
+  !! line element T3D2/T3D3 (b%etype = 0, b%nen = 2 or 3). b%nen = 0 when bad (reported).
+  subroutine get_element_type(c, b, gauss)
+    type(card_t), intent(inout) :: c
+    type(element_block_in_t), intent(inout) :: b
+    integer, intent(out) :: gauss
+    character(len=:), allocatable :: v
+    gauss = 0
+    b%nen = 0
+    if (.not. get_param(c, 'TYPE', v)) then
+      call card_error(c, 'missing required parameter TYPE=Q4|Q8|Q9')
+      return
+    end if
+    b%type_name = upper(collapse_blanks(v))
+    call element_type_named(b%type_name, b%etype, b%analysis, gauss)
+    if (b%etype > 0) then
+      b%nen = etype_nen(b%etype)
+    else if (b%type_name == 'T3D2' .or. b%type_name == 'T3D3') then
+      b%nen = merge(2, 3, b%type_name == 'T3D2')
+    else
+      call card_error(c, 'bad value TYPE='//shown(v)//' (expected one of '// &
+          element_types_named()//'; or the Abaqus names '//element_abaqus_names()//'; ictus has '// &
+          'no triangles, axisymmetric, 3D, beam or shell elements; line elements T3D2, '// &
+          'T3D3 are read as sets of boundary nodes)')
+    end if
+  end subroutine get_element_type
 
   ! ------------------------------------------------------------------------------------------
   ! Sets and surfaces
@@ -467,24 +529,21 @@ contains
     ok = .true.
   end function read_surface_faces
 
-  !> Index of set `name` (created empty when new). 0, with a message, when the name is
-  !! already used by a set of the other kind.
+  !> Index of set `name` of `kind` (created empty when new). A set of the other kind with the
+  !! same name makes the new one a `twin`, settled by ictus_io_deck_interop once the deck is
+  !! read (allowed when both hold the same nodes, as gmsh writes them).
   integer function set_index(d, name, kind, where) result(k)
     type(deck_t), intent(inout) :: d
     character(len=*), intent(in) :: name, where
     integer, intent(in) :: kind
     integer :: j
+    logical :: twin
+    twin = .false.
     do j = 1, d%n_sets
       if (d%sets(j)%name == name) then
         k = j
-        if (d%sets(j)%kind /= kind) then
-          call input_error(where, '*'//trim(merge('NSET ', 'ELSET', kind == SET_NODE))// &
-              ': name '//trim(name)//' is already used by an '// &
-              trim(merge('ELSET', 'NSET ', kind == SET_NODE))//' (first defined at '// &
-              trim(d%sets(j)%where)//')')
-          k = 0
-        end if
-        return
+        if (d%sets(j)%kind == kind) return
+        twin = .true.
       end if
     end do
     call grow_sets(d%sets, d%n_sets + 1)
@@ -493,6 +552,7 @@ contains
     d%sets(k)%name = name
     d%sets(k)%kind = kind
     d%sets(k)%where = where
+    d%sets(k)%twin = twin
     allocate(d%sets(k)%ids(0), d%sets(k)%refs(0), d%sets(k)%ref_where(0))
   end function set_index
 

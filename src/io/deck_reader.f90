@@ -12,8 +12,11 @@
 !!    * ictus_io_deck_material: *MATERIAL, *ELASTIC, *DENSITY, *MASS, *DAMPING;
 !!    * ictus_io_deck_conditions: *BOUNDARY, *INITIAL CONDITIONS;
 !!    * ictus_io_deck_contact: *CONTACT PAIR, *RIGID WALL;
-!!    * ictus_io_deck_step: *STEP, *DYNAMIC, *OUTPUT, *RESTART, *END STEP.
-!! 3. `check_deck` (ictus_io_deck_checks) resolves names and ids across the whole deck (sets,
+!!    * ictus_io_deck_step: *STEP, *DYNAMIC, *OUTPUT, *RESTART, *END STEP;
+!!    * ictus_io_deck_interop: *SOLID SECTION, and the Abaqus cards refused by name.
+!! 3. `resolve_interop` (ictus_io_deck_interop) settles the analysis of Abaqus element names,
+!!    line elements as node sets and the materials of *SOLID SECTION; then
+!!    `check_deck` (ictus_io_deck_checks) resolves names and ids across the whole deck (sets,
 !!    surfaces, materials, nodes used before or after their definition).
 !! Every problem goes to `input_error("file:line", "*CARD: what was expected")`; the caller
 !! checks `error_count() > 0`. Nothing here stops the program.
@@ -32,6 +35,8 @@ module ictus_io_deck_reader
       read_damping, read_hyperelastic, read_plastic
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
   use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall
+  use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop, &
+      resolve_twins
   use ictus_io_deck_step, only: read_step, read_dynamic, read_output, read_restart, &
       read_end_step
   implicit none
@@ -97,7 +102,7 @@ contains
       return
     end if
     select case (kw%name)
-    case ('MATERIAL', 'ELASTIC', 'DENSITY', 'HYPERELASTIC', 'PLASTIC')
+    case ('MATERIAL', 'ELASTIC', 'DENSITY', 'HYPERELASTIC', 'PLASTIC', 'SOLID SECTION')
       rd%broken = ior(rd%broken, SKIP_MATERIALS)
     case ('NODE')
       rd%broken = ior(rd%broken, ior(SKIP_NODES, SKIP_SETS))
@@ -123,7 +128,7 @@ contains
     allocate(deck%materials(0), deck%node_ids(0), deck%node_x(2, 0), deck%node_where(0), &
         deck%blocks(0), deck%sets(0), deck%surfaces(0), deck%boundaries(0), &
         deck%velocities(0), deck%masses(0), deck%dampings(0), deck%patches(0), &
-        deck%patch_ops(0), deck%pairs(0), deck%walls(0))
+        deck%patch_ops(0), deck%pairs(0), deck%walls(0), deck%edges(0), deck%sections(0))
   end subroutine init_deck
 
   !> Closes the step, trims the arrays to their counts and runs the whole-deck checks.
@@ -154,6 +159,12 @@ contains
     deck%patch_ops = deck%patch_ops(1:deck%n_patch_ops)
     deck%pairs = deck%pairs(1:deck%n_pairs)
     deck%walls = deck%walls(1:deck%n_walls)
+    deck%edges = deck%edges(1:deck%n_edges)
+    if (iand(rd%broken, SKIP_ELEMENTS) == 0) then
+      call resolve_interop(deck, iand(rd%broken, SKIP_MATERIALS) /= 0)
+    else
+      call resolve_twins(deck, .false.)
+    end if
     call check_deck(deck, rd%broken)
   end subroutine finish_deck
 
@@ -238,6 +249,8 @@ contains
       call read_damping(c, rd, d)
     case ('MASS')
       call read_mass(c, rd, d)
+    case ('SOLID SECTION')
+      call read_solid_section(c, rd, d)
     case ('STEP')
       call read_step(c, rd, d)
     case ('DYNAMIC')
@@ -249,8 +262,13 @@ contains
     case ('END STEP')
       call read_end_step(c, rd, d)
     case default
-      call input_error(c%where, 'unknown card '//shown(c%label)//' (expected one of the '// &
-          'cards of doc/user-guide.md §4-6, e.g. *NODE, *ELEMENT, *PATCH, *STEP)')
+      if (len(refused_card(c%kw%name)) > 0) then
+        call input_error(c%where, c%label//': an Abaqus card that ictus does not take; '// &
+            refused_card(c%kw%name))
+      else
+        call input_error(c%where, 'unknown card '//shown(c%label)//' (expected one of '// &
+            'the cards of doc/user-guide.md, e.g. *NODE, *ELEMENT, *PATCH, *STEP)')
+      end if
     end select
   end subroutine read_card
 
@@ -262,7 +280,7 @@ contains
         'NODE', 'ELEMENT', &
         'PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE', 'NSET', 'ELSET', 'SURFACE', &
         'BOUNDARY', 'INITIAL CONDITIONS', 'CONTACT PAIR', 'RIGID WALL', 'DAMPING', 'MASS', &
-        'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')
+        'SOLID SECTION', 'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')
       is_known_card = .true.
     case default
       is_known_card = .false.

@@ -9,10 +9,11 @@ module ictus_io_deck_step
   use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: upper, str
-  use ictus_io_deck_lexer, only: line_where, collapse_blanks
+  use ictus_io_deck_lexer, only: line_where, collapse_blanks, token_t, split_fields
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_param, &
-      has_param, has_flag, get_choice, get_ints, get_reals, no_data, one_line, line_reals
+      has_param, has_flag, get_choice, get_ints, get_reals, no_data, one_line, line_reals, &
+      count_ok, tok_real
   implicit none
   private
   public :: read_step, read_dynamic, read_output, read_restart, read_end_step
@@ -64,7 +65,9 @@ contains
     real(dp) :: v(2), s(1)
     integer :: i, k, np(1)
     logical :: tol_given, passes_given
-    character(len=:), allocatable :: text
+    character(len=:), allocatable :: text, w
+    type(token_t), allocatable :: toks(:)
+    integer :: n
 
     call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS|INTERNAL FORCE', &
         'EXPLICIT')
@@ -123,7 +126,18 @@ contains
     d%step%dynamic_where = c%where
     if (c%bad) return
     if (.not. one_line(c, rd, expect, i)) return
-    if (.not. line_reals(rd, i, 2, expect, v)) return
+    w = line_where(rd%src, i)
+    call split_fields(rd%src%lines(i)%text, toks, n)
+    if (.not. count_ok(n, 2, 2, expect, w)) return
+    v = 0.0_dp
+    if (len(toks(1)%s) > 0) then
+      if (.not. tok_real(toks, 1, expect, w, v(1))) return
+    end if
+    if (len(toks(2)%s) == 0) then
+      call input_error(w, expect//': t_end has no default, found an empty field 2')
+      return
+    end if
+    if (.not. tok_real(toks, 2, expect, w, v(2))) return
     if (v(1) < 0.0_dp) call input_error(line_where(rd%src, i), '*DYNAMIC: dt = '// &
         str(v(1))//' must be >= 0 (0 = automatic)')
     if (v(2) <= 0.0_dp) call input_error(line_where(rd%src, i), '*DYNAMIC: t_end = '// &

@@ -16,7 +16,7 @@ module ictus_io_deck_types
   private
   public :: deck_t, material_in_t, element_block_in_t, set_in_t, surface_in_t, &
       boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
-      step_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
+      step_in_t, section_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
       ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
       ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
       SET_NODE, SET_ELEMENT, &
@@ -73,7 +73,20 @@ module ictus_io_deck_types
     integer, allocatable :: line(:)
     character(len=where_len) :: file = ''
     character(len=where_len) :: where = ''
+    !> TYPE= as written (upper case), the analysis its name implies (0: none; CPE*, CPS*) and
+    !! the *ELEMENT line that names it.
+    character(len=16) :: type_name = ''
+    integer :: analysis = 0
+    character(len=where_len) :: analysis_where = ''
   end type element_block_in_t
+
+  !> *SOLID SECTION, ELSET=, MATERIAL= [data: thickness].
+  type :: section_in_t
+    character(len=str_len) :: elset = ''
+    character(len=str_len) :: material = ''
+    real(dp) :: thickness = 0.0_dp
+    character(len=where_len) :: where = ''
+  end type section_in_t
 
   !> *NSET or *ELSET (one card; several cards with one name are merged by the reader).
   type :: set_in_t
@@ -90,6 +103,9 @@ module ictus_io_deck_types
     character(len=str_len) :: patch = ''
     integer :: side = SIDE_NONE
     character(len=where_len) :: where = ''
+    !> A second set of the other kind with the same name (an *NSET and an *ELSET), settled
+    !! after the deck is read (ictus_io_deck_interop).
+    logical :: twin = .false.
   end type set_in_t
 
   !> *SURFACE.
@@ -237,6 +253,8 @@ module ictus_io_deck_types
     character(len=:), allocatable :: title
     integer :: analysis = ANALYSIS_PLANE_STRAIN
     real(dp) :: thickness = 1.0_dp
+    !> Where *ANALYSIS gave THICKNESS= ('' when it did not).
+    character(len=where_len) :: thickness_where = ''
     integer :: n_materials = 0
     type(material_in_t), allocatable :: materials(:)
     !> FE nodes: ids (n) and coordinates (2, n), in deck order.
@@ -244,8 +262,16 @@ module ictus_io_deck_types
     integer, allocatable :: node_ids(:)
     real(dp), allocatable :: node_x(:,:)
     character(len=where_len), allocatable :: node_where(:)
+    !> Where *ANALYSIS gave TYPE= ('' when it did not).
+    character(len=where_len) :: analysis_where = ''
     integer :: n_blocks = 0
     type(element_block_in_t), allocatable :: blocks(:)
+    !> Line elements (T3D2, T3D3 of a gmsh boundary): not part of the model, their ELSET
+    !! names become node sets.
+    integer :: n_edges = 0
+    type(element_block_in_t), allocatable :: edges(:)
+    integer :: n_sections = 0
+    type(section_in_t), allocatable :: sections(:)
     integer :: n_sets = 0
     type(set_in_t), allocatable :: sets(:)
     integer :: n_surfaces = 0
