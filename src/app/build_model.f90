@@ -12,8 +12,8 @@ module ictus_app_build_model
   use ictus_geometry_sides, only: SIDE_NONE
   use ictus_geometry_patch, only: patch_elevate, patch_refine, patch_build_elements, &
       patch_side_points
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_IGA
-  use ictus_elements_library, only: etype_name
+  use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
+  use ictus_elements_library, only: etype_name, element_default_ngauss
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   use ictus_materials_material, only: material_make_law
@@ -331,10 +331,7 @@ contains
         if (m == 0) call input_error(b%where, '*ELEMENT: MATERIAL='//trim(b%material)// &
             ' is not defined by a *MATERIAL card')
         g = b%gauss
-        if (g == 0) then
-          g = 3
-          if (b%etype == ETYPE_Q4) g = 2
-        end if
+        if (g == 0) g = element_default_ngauss(b%etype)
         do k = 1, size(b%ids)
           e = e + 1
           model%etype(e) = b%etype

@@ -12,10 +12,10 @@ module ictus_io_deck_model
   use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_int, shown, &
       collapse_blanks
   use ictus_elements_library, only: element_type_named, element_types_named, &
-      element_abaqus_names
+      element_abaqus_names, element_default_ngauss
   use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
-      where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, &
-      etype_nen, etype_name, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
+      where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, etype_nen, etype_name, SET_NODE, &
+      SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
       SIDE_ETA1, SIDE_ALL, SURF_ELEMENT, SURF_PATCH
   use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
       has_param, has_flag, get_param, get_name, get_choice, get_ints, get_reals, no_data, has_data, &
@@ -178,7 +178,7 @@ contains
     end if
     if (c%bad .or. b%nen == 0) return
     if (b%gauss == 0) b%gauss = gauss
-    if (b%gauss == 0 .and. b%etype > 0) b%gauss = merge(2, 3, b%etype == ETYPE_Q4)
+    if (b%gauss == 0 .and. b%etype > 0) b%gauss = element_default_ngauss(b%etype)
     expect = '*ELEMENT: expected "id, n1, ..., n'//str(b%nen)//'" (TYPE='// &
         trim(b%type_name)//': '//str(b%nen + 1)//' integers)'
     if (.not. has_data(c, expect)) return

@@ -13,7 +13,7 @@ module ictus_solver_domain
   use ictus_geometry_mesh, only: mesh_t
   implicit none
   private
-  public :: domain_t, domain_init, domain_init_serial
+  public :: domain_t, domain_init
 
   type :: domain_t
     !> Number of ranks and this rank.
@@ -102,19 +102,4 @@ contains
     call allreduce_sum(k)
     if (k /= nn) ierr = 2
   end subroutine domain_init
-  !> A single-rank domain of nn nodes with no elements attached (for tests and tools that
-  !! build operators by hand).
-  subroutine domain_init_serial(dom, nn)
-    type(domain_t), intent(out) :: dom
-    integer, intent(in) :: nn
-    integer :: i
-    integer, allocatable :: none(:)
-    dom%nn_global = nn
-    allocate(dom%owner(nn), source=0)
-    allocate(none(0))
-    call halo_setup(dom%halo, [(i, i = 1, nn)], none, dom%owner)
-    dom%nowned = nn
-    dom%nlocal = nn
-    dom%g2l = [(i, i = 1, nn)]
-  end subroutine domain_init_serial
 end module ictus_solver_domain

@@ -3,7 +3,8 @@
 module ictus_solver_tensor_layout
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA
+  use ictus_elements_types, only: ETYPE_IGA, element_kind_t
+  use ictus_elements_library, only: element_kind
   use ictus_solver_model, only: model_t
   use ictus_solver_tensor_types, only: lattice_t, tensor_layout_t, TENSOR_DIRECT, &
       TENSOR_SERENDIPITY
@@ -65,7 +66,7 @@ contains
     integer :: e, a, r, s, ngroups, k, g
     type(lattice_t), allocatable :: tmp(:)
     character(len=:), allocatable :: why
-    if (et /= ETYPE_Q4 .and. et /= ETYPE_Q8 .and. et /= ETYPE_Q9) then
+    if (.not. lattice_quad(et)) then
       lay%reason = 'the elements are not Q4, Q8 or Q9'
       return
     end if
@@ -143,6 +144,8 @@ contains
     real(dp), allocatable :: xs(:), ys(:)
     real(dp) :: tol, ext
     integer :: e, a, k, n1, n2, step, i0, j0, i, j, nn, expected, ne1, ne2
+    type(element_kind_t) :: kd
+    logical :: serendipity
     why = ''
     allocate(seen(model%nn), source=.false.)
     do k = 1, size(els)
@@ -157,8 +160,10 @@ contains
     ys = distinct(model%x0(2, nodes), tol)
     n1 = size(xs)
     n2 = size(ys)
-    step = 1
-    if (et /= ETYPE_Q4) step = 2
+    kd = element_kind(et)
+    step = kd%order
+    ! serendipity: a quadratic quadrilateral without its centre node
+    serendipity = kd%order == 2 .and. .not. kd%centre
     if (mod(n1 - 1, step) /= 0 .or. mod(n2 - 1, step) /= 0 .or. n1 < 2 .or. n2 < 2) then
       why = 'the nodes do not lie on a grid of lines parallel to the axes'
       return
@@ -166,7 +171,7 @@ contains
     ne1 = (n1 - 1)/step
     ne2 = (n2 - 1)/step
     expected = n1*n2
-    if (et == ETYPE_Q8) expected = n1*n2 - ne1*ne2
+    if (serendipity) expected = n1*n2 - ne1*ne2
     if (nn /= expected .or. size(els) /= ne1*ne2) then
       why = 'the nodes do not lie on a grid of lines parallel to the axes'
       return
@@ -176,7 +181,7 @@ contains
     do k = 1, nn
       i = locate(xs, model%x0(1, nodes(k)), tol)
       j = locate(ys, model%x0(2, nodes(k)), tol)
-      if (lat%node(i, j) /= 0 .or. (et == ETYPE_Q8 .and. mod(i, 2) == 0 .and. &
+      if (lat%node(i, j) /= 0 .or. (serendipity .and. mod(i, 2) == 0 .and. &
           mod(j, 2) == 0)) then
         why = 'the nodes do not lie on a grid of lines parallel to the axes'
         return
@@ -206,20 +211,22 @@ contains
       return
     end if
     lat%kind = TENSOR_DIRECT
-    if (et == ETYPE_Q8) lat%kind = TENSOR_SERENDIPITY
+    if (serendipity) lat%kind = TENSOR_SERENDIPITY
     lat%n = [n1, n2]
     lat%x1 = xs
     lat%x2 = ys
-    select case (et)
-    case (ETYPE_Q4)
-      lat%what = 'Q4 grid'
-    case (ETYPE_Q8)
-      lat%what = 'Q8 grid'
-    case default
-      lat%what = 'Q9 grid'
-    end select
-    lat%what = lat%what//' of '//str(ne1)//' x '//str(ne2)//' elements'
+    lat%what = trim(kd%name)//' grid of '//str(ne1)//' x '//str(ne2)//' elements'
   end subroutine grid_lattice
+
+  !> Whether element type et is a Lagrange or serendipity quadrilateral of order 1 or 2 whose
+  !! nodes can sit on a lattice (Q4, Q8, Q9: four corners, fixed nodes, 2D).
+  logical function lattice_quad(et)
+    integer, intent(in) :: et
+    type(element_kind_t) :: kd
+    kd = element_kind(et)
+    lattice_quad = kd%ndm == 2 .and. kd%ncorner == 4 .and. kd%nen == (kd%order + 1)**2 - &
+        merge(1, 0, kd%order == 2 .and. .not. kd%centre) .and. kd%order >= 1 .and. kd%order <= 2
+  end function lattice_quad
 
   !> The distinct values of v (ascending; values closer than tol are one).
   function distinct(v, tol) result(d)

@@ -7,8 +7,8 @@
 program test_library
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, elem_shape_t
-  use ictus_elements_library, only: element_shape_data, element_default_ngauss, &
-      element_omega_max
+  use ictus_elements_library, only: element_shape_data, element_default_ngauss
+  use ictus_test_elements, only: element_omega_max
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass
   use ictus_materials_elastic, only: elastic_dmat, wave_speed_p
   use ictus_test_check, only: checker_t

@@ -15,7 +15,8 @@ program test_contact_omega
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       bsr_add_element
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_set_added, mass_solve
-  use ictus_solver_domain, only: domain_t, domain_init_serial
+  use ictus_solver_domain, only: domain_t
+  use ictus_test_solver, only: domain_init_serial
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, &
       contact_bipenalty_init, contact_omega_max
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &

@@ -16,7 +16,8 @@ program test_mass_corrector
       csr_add_element
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_apply, &
       MASS_SOLVER_CORRECTOR
-  use ictus_solver_domain, only: domain_t, domain_init_serial
+  use ictus_solver_domain, only: domain_t
+  use ictus_test_solver, only: domain_init_serial
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t

@@ -7,7 +7,8 @@ program test_mass_operator
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve, mass_apply, &
       MASS_SOLVER_CHOLESKY
   use ictus_solver_mass_cholesky, only: cholesky_solver_t
-  use ictus_solver_domain, only: domain_t, domain_init_serial
+  use ictus_solver_domain, only: domain_t
+  use ictus_test_solver, only: domain_init_serial
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
