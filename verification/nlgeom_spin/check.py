@@ -45,8 +45,8 @@ def spin_velocities(points):
     return "\n".join(lines) + "\n"
 
 
-def q8_deck(nlgeom):
-    mesh = vcheck.rect_mesh(type="Q8", nx=8, ny=8, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5)
+def mesh_points(mesh):
+    """(id, x, y) of every node of the *NODE cards of a mesh text."""
     pts = []
     in_nodes = False
     for line in mesh.splitlines():
@@ -58,7 +58,12 @@ def q8_deck(nlgeom):
         elif in_nodes and line.strip():
             v = [s.strip() for s in line.split(",")]
             pts.append((int(v[0]), float(v[1]), float(v[2])))
-    return ("*HEADING\nspinning Q8 square\n" + MATERIAL + mesh + spin_velocities(pts)
+    return pts
+
+
+def q8_deck(nlgeom):
+    mesh = vcheck.rect_mesh(type="Q8", nx=8, ny=8, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5)
+    return ("*HEADING\nspinning Q8 square\n" + MATERIAL + mesh + spin_velocities(mesh_points(mesh))
             + step(nlgeom))
 
 
@@ -83,19 +88,8 @@ def nurbs_deck(nlgeom, spans=8):
 
 def crush_deck():
     mesh = vcheck.rect_mesh(type="Q4", nx=4, ny=4, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5)
-    pts = []
-    in_nodes = False
-    for line in mesh.splitlines():
-        if line.upper().startswith("*NODE"):
-            in_nodes = True
-            continue
-        if line.startswith("*"):
-            in_nodes = False
-        elif in_nodes and line.strip():
-            v = [s.strip() for s in line.split(",")]
-            pts.append((int(v[0]), float(v[1]), float(v[2])))
     ic = ["*INITIAL CONDITIONS, TYPE=VELOCITY"]
-    for i, x, y in pts:
+    for i, x, y in mesh_points(mesh):
         ic += [f"{i}, 1, {-20.0 * x!r}", f"{i}, 2, {-20.0 * y!r}"]
     return ("*HEADING\ncrushed square\n*MATERIAL, NAME=MAT\n*ELASTIC\n1.0, 0.3\n*DENSITY\n1.0\n"
             + mesh + "\n".join(ic) + "\n*MASS, TYPE=HRZ\n*STEP, NLGEOM=YES\n"

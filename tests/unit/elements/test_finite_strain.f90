@@ -78,8 +78,8 @@ contains
     type(elem_shape_t) :: shp
     type(element_out_t) :: out, kout
     real(dp), allocatable :: xl(:,:), ul(:,:), h0(:,:), h1(:,:)
-    real(dp) :: r(2, 2), f(2, 2), worst, scale, sig_want(6), err
-    integer :: a, j, g
+    real(dp) :: r(2, 2), worst, scale
+    integer :: a, j
     character(len=:), allocatable :: tag
     tag = trim(etype_name(et))//', '//trim(names(k))
     call element_of(et, xl, shp)
@@ -97,34 +97,41 @@ contains
       worst = max(worst, maxval(abs(out%p)))
     end do
     call t%close_abs(worst, 0.0_dp, 1.0e-12_dp*scale, tag//': f_int of a rigid rotation = 0')
-    f = reshape([1.3_dp, -0.1_dp, 0.4_dp, 0.8_dp], [2, 2])
-    if (k == 3) f = reshape([1.004_dp, -0.001_dp, 0.002_dp, 0.997_dp], [2, 2])
-    do a = 1, shp%nen
-      ul(:, a) = matmul(f, xl(:, a)) - xl(:, a)
-    end do
-    call element_routine(TASK_STRESS, et, shp, xl, mats(k), out, ul, h0)
-    call closed_form(k, f, sig_want)
-    err = 0.0_dp
-    do g = 1, shp%ngp
-      err = max(err, maxval(abs(out%sig(:, g) - sig_want)))
-    end do
-    call t%close_abs(err, 0.0_dp, 1.0e-10_dp*maxval(abs(sig_want)), &
-        tag//': homogeneous F, closed-form stress at every point')
-    if (k /= 3) return
-    ! J2 after yield (the step above stays on the elastic branch)
-    f = reshape([1.05_dp, 0.01_dp, 0.0_dp, 1.0_dp], [2, 2])
-    do a = 1, shp%nen
-      ul(:, a) = matmul(f, xl(:, a)) - xl(:, a)
-    end do
-    call element_routine(TASK_STRESS, et, shp, xl, mats(k), out, ul, h0)
-    call closed_form(k, f, sig_want)
-    err = 0.0_dp
-    do g = 1, shp%ngp
-      err = max(err, maxval(abs(out%sig(:, g) - sig_want)))
-    end do
-    call t%close_abs(err, 0.0_dp, 1.0e-10_dp*maxval(abs(sig_want)), &
-        tag//' after yield: homogeneous F, the stress of the point routine at every point')
+    if (k /= 3) then
+      call case_homogeneous(t, et, k, shp, xl, reshape([1.3_dp, -0.1_dp, 0.4_dp, 0.8_dp], &
+          [2, 2]), tag//': homogeneous F, closed-form stress at every point')
+    else
+      ! J2 on its elastic branch, then after yield
+      call case_homogeneous(t, et, k, shp, xl, reshape([1.004_dp, -0.001_dp, 0.002_dp, &
+          0.997_dp], [2, 2]), tag//': homogeneous F, closed-form stress at every point')
+      call case_homogeneous(t, et, k, shp, xl, reshape([1.05_dp, 0.01_dp, 0.0_dp, 1.0_dp], &
+          [2, 2]), tag//' after yield: homogeneous F, the stress of the point routine at '// &
+          'every point')
+    end if
   end subroutine case_element
+
+  !> u = (F - I) X on the element: the stress at every point against closed_form(F).
+  subroutine case_homogeneous(t, et, k, shp, xl, f, label)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: et, k
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(:,:), f(2, 2)
+    character(len=*), intent(in) :: label
+    type(element_out_t) :: out
+    real(dp) :: ul(2, shp%nen), h0(mats(k)%law%nhist, shp%ngp), sig_want(6), err
+    integer :: a, g
+    h0 = 0.0_dp
+    do a = 1, shp%nen
+      ul(:, a) = matmul(f, xl(:, a)) - xl(:, a)
+    end do
+    call element_routine(TASK_STRESS, et, shp, xl, mats(k), out, ul, h0)
+    call closed_form(k, f, sig_want)
+    err = 0.0_dp
+    do g = 1, shp%ngp
+      err = max(err, maxval(abs(out%sig(:, g) - sig_want)))
+    end do
+    call t%close_abs(err, 0.0_dp, 1.0e-10_dp*maxval(abs(sig_want)), label)
+  end subroutine case_homogeneous
 
   !> The Cauchy stress of law k at the plane-strain F (2 x 2 in-plane part, F_33 = 1).
   subroutine closed_form(k, f2, sig)
