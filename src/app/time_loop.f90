@@ -23,13 +23,14 @@ module ictus_app_time_loop
       stepper_advance
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
+  use ictus_solver_fields, only: element_fields_t, element_fields
   use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
-      results_records
+      results_records, results_element_fields
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_options, only: run_options_t, EXIT_RUNTIME, EXIT_WALL_TIME
   implicit none
@@ -47,6 +48,8 @@ module ictus_app_time_loop
     real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
     !> Whether the small-strain guard has warned (once per run).
     logical :: rotation_warned = .false.
+    !> Work of the element fields of a snapshot.
+    type(element_fields_t) :: ef
   end type loop_t
 
 contains
@@ -213,6 +216,8 @@ contains
         if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
         call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, &
             dom%halo%gid(1:dom%nowned), stp%contact)
+        call element_fields(model, dom, s%u, s%hist, lp%ef)
+        call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), model%nel)
         if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
       end if
     end associate

@@ -48,8 +48,9 @@ module ictus_elements_library
     real(dp), allocatable :: s(:,:)
     !> TASK_FORCE: internal force (2, nen).
     real(dp), allocatable :: p(:,:)
-    !> TASK_STRESS: Cauchy stress per quadrature point (6, ngp), (xx, yy, zz, xy, yz, zx).
-    real(dp), allocatable :: sig(:,:)
+    !> TASK_STRESS: Cauchy stress and strain per quadrature point (6, ngp), (xx, yy, zz, xy,
+    !! yz, zx; tensor shears; the logarithmic strain with NLGEOM).
+    real(dp), allocatable :: sig(:,:), eps(:,:)
     !> TASK_MASS: element mass; TASK_FORCE: strain energy; TASK_JACOBIAN: smallest det J;
     !! TASK_ROTATION: the largest infinitesimal rotation (rad).
     real(dp) :: scalar = 0.0_dp
@@ -281,7 +282,8 @@ contains
       if (present(hist_new)) hist_new = h1
     case (TASK_STRESS)
       call fit(out%sig, 6, shp%ngp)
-      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr)
+      call fit(out%eps, 6, shp%ngp)
+      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps)
     case (TASK_JACOBIAN)
       call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
     case (TASK_ROTATION)

@@ -6,7 +6,8 @@
 module ictus_elements_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: elem_shape_t
-  use ictus_materials_law, only: law_t, tensor_of
+  use ictus_materials_law, only: law_t, tensor_of, voigt_of
+  use ictus_materials_eigen, only: sym_eigen3
   implicit none
   private
   public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume, &
@@ -202,10 +203,11 @@ contains
   end function tensor_of2
 
   !> Cauchy stress of the material law at the quadrature points of shp.
+  !! eps (optional): the strain at the points (strain_of).
   !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; hist(:, ngp): the
   !! history per point; sig(6, shp%ngp): (xx, yy, zz, xy, yz, zx) per point; ierr: 0, or the
   !! first point with det J <= 0.
-  pure subroutine solid2d_stress(nen, shp, xl, ul, law, hist, sig, ierr)
+  pure subroutine solid2d_stress(nen, shp, xl, ul, law, hist, sig, ierr, eps)
     integer, intent(in) :: nen
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(2, nen), ul(2, nen)
@@ -213,7 +215,8 @@ contains
     real(dp), intent(in) :: hist(:,:)
     real(dp), intent(out) :: sig(6, shp%ngp)
     integer, intent(out) :: ierr
-    real(dp) :: dnx(2, nen), detj, w, hist_new(size(hist, 1))
+    real(dp), intent(out), optional :: eps(6, shp%ngp)
+    real(dp) :: dnx(2, nen), detj, w, hist_new(size(hist, 1)), grad(3, 3)
     integer :: g
     sig = 0.0_dp
     ierr = 0
@@ -223,9 +226,36 @@ contains
         ierr = g
         return
       end if
-      call law%stress(gradient(nen, dnx, ul), hist(:, g), hist_new, sig(:, g), w)
+      grad = gradient(nen, dnx, ul)
+      call law%stress(grad, hist(:, g), hist_new, sig(:, g), w)
+      if (present(eps)) eps(:, g) = strain_of(grad, law%kin%nlgeom)
     end do
   end subroutine solid2d_stress
+
+  !> The strain tensor (xx, yy, zz, xy, yz, zx; tensor shears) of a displacement gradient:
+  !! (grad + grad^T)/2 in small strain, the logarithmic strain ln V = ln(F F^T)/2 with NLGEOM.
+  pure function strain_of(grad, nlgeom) result(eps)
+    real(dp), intent(in) :: grad(3, 3)
+    logical, intent(in) :: nlgeom
+    real(dp) :: eps(6)
+    real(dp) :: f(3, 3), b(3, 3), lam(3), v(3, 3), e(3, 3)
+    integer :: i
+    if (.not. nlgeom) then
+      eps = voigt_of(0.5_dp*(grad + transpose(grad)))
+      return
+    end if
+    f = grad
+    do i = 1, 3
+      f(i, i) = f(i, i) + 1.0_dp
+    end do
+    b = matmul(f, transpose(f))
+    call sym_eigen3(b, lam, v)
+    e = 0.0_dp
+    do i = 1, 3
+      e = e + 0.5_dp*log(lam(i))*spread(v(:, i), 2, 3)*spread(v(:, i), 1, 3)
+    end do
+    eps = voigt_of(e)
+  end function strain_of
 
   !> Largest infinitesimal rotation |du_y/dx - du_x/dy| / 2 over the quadrature points of shp
   !! (what small-strain kinematics mistake for strain when it grows: the small-strain guard).

@@ -10,7 +10,7 @@ module ictus_io_checkpoint
   use ictus_core_strings, only: str
   use ictus_parallel_env, only: env_is_root, barrier, bcast
   use ictus_contact_contact, only: contact_t
-  use ictus_solver_domain, only: domain_t
+  use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_explicit, only: state_t
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_group, &
@@ -184,7 +184,7 @@ contains
   end subroutine checkpoint_read
 
   !> The quadrature-point history of the material laws, one row per element (global element
-  !! order), written by the rank that owns the element (domain_t%part).
+  !! order), written by the rank that owns the element (domain_owns).
   subroutine write_history(f, dom, s)
     integer(hid_t), intent(in) :: f
     type(domain_t), intent(in) :: dom
@@ -193,11 +193,11 @@ contains
     integer, allocatable :: gid(:)
     integer :: k, j, m, nown
     m = size(s%hist, 1)*size(s%hist, 2)
-    nown = count(dom%part(dom%elem) == dom%rank)
+    nown = count([(domain_owns(dom, k), k = 1, dom%nelem)])
     allocate(rows(m, nown), gid(nown))
     j = 0
     do k = 1, dom%nelem
-      if (dom%part(dom%elem(k)) /= dom%rank) cycle
+      if (.not. domain_owns(dom, k)) cycle
       j = j + 1
       rows(:, j) = reshape(s%hist(:, :, k), [m])
       gid(j) = dom%elem(k)

@@ -14,6 +14,7 @@ module ictus_io_results
   use ictus_solver_model, only: model_t
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   use ictus_solver_domain, only: domain_t
+  use ictus_solver_fields, only: element_fields_t
   use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, &
       iga_viz_cells
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
@@ -24,7 +25,8 @@ module ictus_io_results
   implicit none
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
-      history_record_t, results_contact, results_reopen, results_flush, results_records
+      history_record_t, results_contact, results_reopen, results_flush, results_records, &
+      results_element_fields
 
   !> Records kept in memory before they are appended to the file.
   integer, parameter :: buffer_size = 512
@@ -526,6 +528,27 @@ contains
       end do
     end if
   end subroutine results_field
+
+  !> The element fields of step `step` (ictus_solver_fields): per element /fields/<step>/stress
+  !! and strain (ne, 4: xx, yy, xy, zz), mises and peeq (ne); at the nodes nodal_stress (n, 4)
+  !! and nodal_mises (n). gid: the global indices of the owned nodes.
+  subroutine results_element_fields(r, step, ef, gid, nel)
+    type(results_t), intent(inout) :: r
+    integer, intent(in) :: step, nel
+    type(element_fields_t), intent(in) :: ef
+    integer, intent(in) :: gid(:)
+    integer(hid_t) :: g
+    character(len=8) :: name
+    write(name, '(i8.8)') step
+    call h5u_group(r%file, 'fields/'//name, g)
+    call h5u_write_rows(g, 'stress', ef%stress, ef%elem, nel)
+    call h5u_write_rows(g, 'strain', ef%strain, ef%elem, nel)
+    call h5u_write_rows(g, 'mises', ef%mises, ef%elem, nel)
+    call h5u_write_rows(g, 'peeq', ef%peeq, ef%elem, nel)
+    call h5u_write_rows(g, 'nodal_stress', ef%nodal_stress, gid, r%nn)
+    call h5u_write_rows(g, 'nodal_mises', ef%nodal_mises, gid, r%nn)
+    call h5u_close_group(g)
+  end subroutine results_element_fields
 
   !> Writes the rows `rows` of the (nglobal, 3) dataset `name`: the vectors x (2, :) with a
   !! third component 0.

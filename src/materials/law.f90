@@ -39,6 +39,8 @@ module ictus_materials_law
     !! the dissipated energy per unit reference volume (0: the law dissipates nothing).
     integer :: nhist = 0
     integer :: hist_dissipation = 0
+    !> Which history variable is the equivalent plastic strain (0: none), for the output.
+    integer :: hist_peeq = 0
     !> The small-strain tangent at the reference state in 2D Voigt order (xx, yy, xy;
     !! engineering shear): (:, :, 1) plane strain, (:, :, 2) plane stress; set by every law's
     !! `init`. It gives the stiffness of the stable-step estimate at the start, and, for a

@@ -14,7 +14,7 @@ module ictus_solver_assemble
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
   use ictus_parallel_repro, only: repro_sum
   use ictus_solver_model, only: model_t
-  use ictus_solver_domain, only: domain_t
+  use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       csr_init, bsr_add_element, csr_add_element
   implicit none
@@ -141,7 +141,7 @@ contains
       call element_routine(TASK_MASS, model%etype(e), shp, xl, model%materials(mt), &
            mout)
       mass_e = mout%scalar
-      if (dom%part(e) == dom%rank) then
+      if (domain_owns(dom, k)) then
         nmine = nmine + 1
         emass(nmine) = mass_e
       end if

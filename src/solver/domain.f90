@@ -13,7 +13,7 @@ module ictus_solver_domain
   use ictus_geometry_mesh, only: mesh_t
   implicit none
   private
-  public :: domain_t, domain_init
+  public :: domain_t, domain_init, domain_owns
 
   type :: domain_t
     !> Number of ranks and this rank.
@@ -102,4 +102,14 @@ contains
     call allreduce_sum(k)
     if (k /= nn) ierr = 2
   end subroutine domain_init
+
+  !> Whether this rank owns local element k (dom%elem(k)): the owner of its first node. Every
+  !! element has exactly one owning rank, and that rank assembles it (it holds the node), so
+  !! per-element output and sums count each element once. (The METIS part of an element need
+  !! not own any of its nodes.)
+  pure logical function domain_owns(dom, k)
+    type(domain_t), intent(in) :: dom
+    integer, intent(in) :: k
+    domain_owns = dom%conn(1, k) <= dom%nowned
+  end function domain_owns
 end module ictus_solver_domain

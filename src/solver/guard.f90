@@ -9,7 +9,7 @@ module ictus_solver_guard
   use ictus_elements_types, only: elem_shape_t, TASK_ROTATION
   use ictus_elements_library, only: element_routine, element_out_t
   use ictus_solver_model, only: model_t
-  use ictus_solver_domain, only: domain_t
+  use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_assemble, only: element_shape, shape_cache_t
   implicit none
   private
@@ -38,7 +38,7 @@ contains
     e_at = 0
     do k = 1, dom%nelem
       e = dom%elem(k)
-      if (dom%part(e) /= dom%rank) cycle
+      if (.not. domain_owns(dom, k)) cycle
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call element_routine(TASK_ROTATION, model%etype(e), shp, &

@@ -111,6 +111,26 @@ def main():
     fp = crossing(x, v, (-V0 + dv) / 2)
     chk.below(abs(fe - xe), 2 * h, f"elastic front at {fe:.3f}, c_e t = {xe:.3f}")
     chk.below(abs(fp - xp), 2 * h, f"plastic front at {fp:.3f}, c_p t = {xp:.3f}")
+    # the element stress output: sigma_xx on the plateaus, von Mises = sigma_y0 = 5 in the
+    # precursor (at yield), equivalent plastic strain 0 there and > 0 behind the plastic front
+    conn = res.model("elements/q4/connectivity")
+    xc = x0[conn, 0].mean(axis=1)
+    sxx = res.field(last, "stress")[:, 0]
+    mises = res.field(last, "mises")
+    peeq = res.field(last, "peeq")
+    chk.close(-plateau(xc, sxx, 0.0, xp), s_fin, 0.02, "stress output: -sigma_xx = 31.266 behind "
+              "the plastic front")
+    chk.close(-plateau(xc, sxx, xp, xe), 8.75, 0.02, "stress output: -sigma_xx = sigma_HEL = 8.75 "
+              "in the precursor")
+    chk.close(plateau(xc, mises, xp, xe), SY, 0.02, "stress output: von Mises = sigma_y = 5 in the "
+              "precursor")
+    # behind the front: q = 3/2 (|sigma_xx| - K eps) (uniaxial strain), epbar = (q - 5)/100
+    kb = E / (3 * (1 - 2 * NU))
+    peeq_want = (1.5 * (s_fin - kb * eps_fin) - SY) / H
+    chk.close(plateau(xc, peeq, 0.0, xp), peeq_want, 0.02,
+              f"stress output: PEEQ = {peeq_want:.5f} behind the plastic front")
+    chk.below(plateau(xc, peeq, xp, xe), 0.01 * peeq_want,
+              "stress output: PEEQ ~ 0 in the precursor (the front's overshoot only)")
     kin = res.history("energy/kinetic")
     total = kin + res.history("energy/strain") + res.history("energy/plastic_work")
     chk.true(res.history("energy/plastic_work")[-1] > 0.1 * kin[0], "plastic work is done")

@@ -14,7 +14,7 @@ module ictus_solver_force_element
   use ictus_elements_library, only: element_geometry, element_force
   use ictus_materials_material, only: material_t
   use ictus_solver_model, only: model_t
-  use ictus_solver_domain, only: domain_t
+  use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_assemble, only: element_shape, shape_cache_t
   implicit none
   private
@@ -86,7 +86,7 @@ contains
       el%etype(k) = model%etype(e)
       el%nen(k) = nen
       el%mat(k) = model%mat(e)
-      el%own(k) = dom%part(e) == dom%rank
+      el%own(k) = domain_owns(dom, k)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       ! a rule has at most the points of the tensor Gauss rule of the same n
       if (shp%ngp > ngp_max) then
