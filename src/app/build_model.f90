@@ -86,6 +86,7 @@ contains
         model%mass_solver = MASS_SOLVER_AUTO
       end select
       model%mass_passes = deck%step%mass_passes
+      if (deck%step%energy_warning > 0.0_dp) model%energy_warning = deck%step%energy_warning
       select case (deck%step%internal_force)
       case ('ASSEMBLED')
         model%force_kind = FORCE_ASSEMBLED

@@ -48,6 +48,10 @@ module ictus_app_time_loop
     real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
     !> Whether the small-strain guard has warned (once per run).
     logical :: rotation_warned = .false.
+    !> The largest energy of the records so far (kinetic + strain + contact + plastic work, or
+    !! |total|), and whether the energy-balance warning has been given.
+    real(dp) :: e_max = 0.0_dp
+    logical :: energy_warned = .false.
     !> Work of the element fields of a snapshot.
     type(element_fields_t) :: ef
   end type loop_t
@@ -210,6 +214,7 @@ contains
         call results_history(lp%res, rec)
         if (n == 0) lp%e0 = total_energy(s)
         call check_blowup(lp, stp)
+        call check_balance(lp, stp)
       end if
       if (mod(n, lp%field_every) == 0 .or. n == lp%nsteps) then
         ! the viewing samples of NURBS elements read ghost velocities too
@@ -222,6 +227,27 @@ contains
       end if
     end associate
   end subroutine write_outputs
+
+  !> The energy-ratio warning (as LS-DYNA's glstat): once, when the balance error
+  !! |E_total - E_0| exceeds ENERGY WARNING (default 1 %) of the largest energy so far.
+  subroutine check_balance(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    real(dp) :: err
+    associate (s => stp%s)
+      lp%e_max = max(lp%e_max, s%e_kin + s%e_strain + s%e_contact + s%e_plastic, &
+          abs(total_energy(s)))
+      if (lp%energy_warned .or. .not. lp%e_max > 0.0_dp) return
+      err = abs(total_energy(s) - lp%e0)
+      if (.not. err > stp%model%energy_warning*lp%e_max) return
+      lp%energy_warned = .true.
+      call warning('energy', 'the energy balance error |E_total - E_0| = '//str(err, 4)// &
+          ' is '//str(100.0_dp*err/lp%e_max, 3)//' % of the largest energy '// &
+          str(lp%e_max, 5)//' at t = '//str(s%t, 5)//' (more than ENERGY WARNING = '// &
+          str(stp%model%energy_warning, 3)//' on *DYNAMIC): check the time step (SAFETY), '// &
+          'the contact penalty and the mesh')
+    end associate
+  end subroutine check_balance
 
   !> The small-strain guard at a field output: one warning when an element has turned by more
   !! than ROTATION_LIMIT.

@@ -330,6 +330,8 @@ contains
     ! (a checkpoint is continued only with the same processed deck)
     if (d%step%internal_force /= 'AUTO') sweep = sweep//', INTERNAL FORCE='// &
         trim(d%step%internal_force)
+    if (d%step%energy_warning > 0.0_dp) sweep = sweep//', ENERGY WARNING='// &
+        real_text(d%step%energy_warning)
     ! NLGEOM only when YES: the processed text of a small-strain deck stays as it was
     if (d%step%nlgeom) then
       call put(t, '*STEP, NLGEOM=YES')

@@ -69,8 +69,8 @@ contains
     type(token_t), allocatable :: toks(:)
     integer :: n
 
-    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS|INTERNAL FORCE', &
-        'EXPLICIT')
+    call check_params(c, 'SAFETY|MASS TOL|MASS SOLVER|MASS PASSES|SWEEP STEPS|INTERNAL FORCE|'// &
+        'ENERGY WARNING', 'EXPLICIT')
     if (.not. has_flag(c, 'EXPLICIT')) call card_error(c, &
         'only explicit dynamics is supported (expected *DYNAMIC, EXPLICIT)')
     if (get_reals(c, 'SAFETY', 1, 'a number in (0, 1]', s)) then
@@ -113,6 +113,14 @@ contains
     end if
     call get_choice(c, 'MASS SOLVER', 'AUTO|KRONECKER|CHOLESKY|CG|CORRECTOR', k)
     if (k > 0) d%step%mass_solver = solvers(k)
+    if (get_reals(c, 'ENERGY WARNING', 1, 'a number in (0, 1]', s)) then
+      if (.not. (s(1) > 0.0_dp .and. s(1) <= 1.0_dp)) then
+        call card_error(c, 'ENERGY WARNING='//str(s(1))//' outside (0, 1] (the fraction of '// &
+            'the largest energy the balance error may reach before the run warns)')
+      else
+        d%step%energy_warning = s(1)
+      end if
+    end if
     call get_choice(c, 'INTERNAL FORCE', 'AUTO|ASSEMBLED|ELEMENT', k)
     if (k > 0) d%step%internal_force = forces(k)
     if (tol_given .and. d%step%mass_solver /= 'CG') call card_error(c, &

@@ -206,6 +206,9 @@ module ictus_io_deck_types
     character(len=16) :: internal_force = 'AUTO'
     !> *STEP, NLGEOM=YES: finite strain.
     logical :: nlgeom = .false.
+    !> ENERGY WARNING=f: warn once when |E_total - E_0| exceeds f E_max (0: not given, the
+    !! default 0.01).
+    real(dp) :: energy_warning = 0.0_dp
     !> Lumped-mass steps per sweep over the stiffness (SWEEP STEPS=); 0 = AUTO (6 steps,
     !! kept where the run measures them faster than single steps).
     integer :: sweep_steps = 0

@@ -70,6 +70,8 @@ module ictus_solver_model
     real(dp) :: safety = 0.9_dp
     !> Internal force (FORCE_*).
     integer :: force_kind = FORCE_AUTO
+    !> The run warns once when |E_total - E_0| exceeds energy_warning times the largest energy.
+    real(dp) :: energy_warning = 0.01_dp
     !> Consistent mass: its solver (MASS_SOLVER_*), the relative residual of the conjugate
     !! gradient and the number of passes of the corrector.
     integer :: mass_solver = MASS_SOLVER_AUTO
