@@ -10,6 +10,7 @@ module ictus_app_driver
   use ictus_core_errors, only: input_error, error_count, fatal, terminate, warning
   use ictus_core_logger, only: log_info
   use ictus_core_strings, only: str, join_ids
+  use ictus_core_timer, only: wall_time
   use ictus_parallel_env, only: env_size, allreduce_max, allgather_int, allgatherv_real, &
       env_node_size
   use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
@@ -54,15 +55,21 @@ contains
     real(dp) :: omega, dt_crit, dt, r1, dt_pen
     integer :: iters, ierr
     character(len=256) :: where
+    real(dp) :: t0
+    t0 = wall_time()
     call read_deck(opt%deck_path, deck)
     if (error_count() > 0) call input_failure()
+    call phase('deck read', t0)
     call build_model(deck, model)
     if (error_count() > 0) call input_failure()
+    call phase('model built', t0)
     call domain_init(dom, model, ierr)
     if (ierr /= 0) call fatal('partitioning', 'METIS could not partition the mesh into '// &
         str(env_size())//' parts')
+    call phase('partitioned', t0)
     call check_operators(model, dom, ops)
     if (error_count() > 0) call input_failure()
+    call phase('elements checked, stiffness and mass assembled', t0)
     call build_contact(deck, model, contact)
     if (error_count() > 0) call input_failure()
     if (ops%consistent .and. model%mass_solver == MASS_SOLVER_CORRECTOR) then
@@ -87,7 +94,9 @@ contains
     else if (ierr /= 0) then
       call fatal('consistent mass', mop%setup_msg, 1)
     end if
+    call phase('contact and mass operator set up', t0)
     call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
+    call phase('omega_max estimated', t0)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
     if (.not. omega <= huge(1.0_dp)) then
@@ -216,6 +225,16 @@ contains
       call input_failure()
     end if
   end subroutine check_viz_memory
+
+  !> The log line of a set-up phase: its name and the time since t0 (reset to now).
+  subroutine phase(name, t0)
+    character(len=*), intent(in) :: name
+    real(dp), intent(inout) :: t0
+    real(dp) :: t
+    t = wall_time()
+    call log_info('set-up: '//name//' in '//str(t - t0, 3)//' s')
+    t0 = t
+  end subroutine phase
 
   !> Ends a run whose input is wrong: exit status 1, nothing written.
   subroutine input_failure()

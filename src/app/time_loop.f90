@@ -74,12 +74,16 @@ contains
     type(stepper_t) :: stp
     type(loop_t) :: lp
     integer :: n, n_next, ierr
+    real(dp) :: t0
+    t0 = wall_time()
     call loop_setup(lp, opt, deck, model, dt)
+    call log_info('set-up: processed deck formed in '//str(wall_time() - t0, 3)//' s')
     call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
     call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
     call stepper_plan(stp)
+    call log_info('set-up: stepper and results file ready in '//str(wall_time() - t0, 3)//' s')
     lp%t0 = wall_time()
     lp%t_last_print = lp%t0
     do

@@ -424,15 +424,22 @@ contains
     character(len=:), allocatable :: s
     character(len=40) :: buf, fmt
     character(len=:), allocatable :: digits
-    real(dp) :: y
-    integer :: d, e, ios, ke, k
+    integer :: d, e, ke, k, lo, hi
 
-    do d = 0, 17
-      write(fmt, '(a,i0,a)') '(es32.', d, 'e3)'
-      write(buf, fmt) x
-      read(buf, *, iostat=ios) y
-      if (ios == 0 .and. y == x) exit
+    ! the fewest digits that read back to x: if d digits do, d + 1 do too (the nearest
+    ! (d+1)-digit decimal is at least as close), so a bisection over 0..17 finds them
+    lo = 0
+    hi = 17
+    do while (lo < hi)
+      d = (lo + hi)/2
+      if (reads_back(d)) then
+        hi = d
+      else
+        lo = d + 1
+      end if
     end do
+    write(fmt, '(a,i0,a)') '(es32.', lo, 'e3)'
+    write(buf, fmt) x
     buf = adjustl(buf)
     ke = index(buf, 'E')
     read(buf(ke + 1:), *) e
@@ -460,6 +467,20 @@ contains
       s = s//'E'//str(e)
     end if
     if (buf(1:1) == '-') s = '-'//s
+
+  contains
+
+    !> Whether x written with d + 1 significant digits reads back to x.
+    logical function reads_back(d)
+      integer, intent(in) :: d
+      character(len=40) :: b, f
+      real(dp) :: y
+      integer :: ios
+      write(f, '(a,i0,a)') '(es32.', d, 'e3)'
+      write(b, f) x
+      read(b, *, iostat=ios) y
+      reads_back = ios == 0 .and. y == x
+    end function reads_back
   end function real_text
 
 end module ictus_io_deck_echo
