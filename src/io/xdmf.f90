@@ -100,6 +100,14 @@ contains
     write(u, '(a)') '     </Geometry>'
     call attribute(u, 'displacement', prefix, h5, sname, g%npoints)
     call attribute(u, 'velocity', prefix, h5, sname, g%npoints)
+    ! the von Mises stress averaged at the nodes (finite-element blocks: the grid's points are
+    ! the model's nodes)
+    if (g%etype /= ETYPE_IGA) then
+      write(u, '(a)') '     <Attribute Name="mises" AttributeType="Scalar" Center="Node">'
+      write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+          'Dimensions="', g%npoints, '">'//h5//':/fields/'//sname//'/nodal_mises</DataItem>'
+      write(u, '(a)') '     </Attribute>'
+    end if
     write(u, '(a)') '    </Grid>'
   end subroutine grid
 
