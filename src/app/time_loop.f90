@@ -46,6 +46,8 @@ module ictus_app_time_loop
     integer :: restart_every = 0
     real(dp) :: wall_limit = 0.0_dp
     real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
+    !> The step the loop started at (0, or the checkpoint's).
+    integer :: n_start = 0
     !> Whether the small-strain guard has warned (once per run).
     logical :: rotation_warned = .false.
     !> The largest energy of the records so far (kinetic + strain + contact + plastic work, or
@@ -82,6 +84,7 @@ contains
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
     call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
+    lp%n_start = n
     call stepper_plan(stp)
     call log_info('set-up: stepper and results file ready in '//str(wall_time() - t0, 3)//' s')
     lp%t0 = wall_time()
@@ -360,7 +363,7 @@ contains
       if (len(line) > 0) call log_info(line)
     end associate
     call log_info('wall time: '//str(wall_time() - lp%t0, 4)//' s for '// &
-        str(stp%s%step)//' steps')
+        str(stp%s%step - lp%n_start)//' steps')
   end subroutine end_of_run
 
   !> A run-time failure of the stepper (its message in stp%failure) ends the run.
