@@ -44,7 +44,7 @@ program ictus_bench
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_apply, force_choice, &
-      FORCE_ELEMENT
+      FORCE_ELEMENT, FORCE_ASSEMBLED
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window, sweeps_run
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
@@ -155,7 +155,10 @@ program ictus_bench
       if (cs%lnode(i) > 0) sync(cs%lnode(i)) = .true.
     end do
   end if
-  call sweeps_plan(ls, s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, model%sweep_steps)
+  ! sweeps are the linear lumped stepper's: only with the assembled K (as stepper_plan)
+  if (fop%kind == FORCE_ASSEMBLED) &
+    call sweeps_plan(ls, s, ops%k, mop, dom, model%x0(:, dom%halo%gid(1:n)), sync, &
+        model%sweep_steps)
   ! the steps of the first four timings go in `nchunk` chunks, interleaved (see time_phases);
   ! each chunk whole sweeps: the step count is rounded up to a multiple of nchunk sweeps
   nchunk = min(4, nsteps)
