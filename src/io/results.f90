@@ -296,7 +296,7 @@ contains
       ! NURBS elements are shown on their viewing cells (below)
       if (ne == 0 .or. etype_nen(t) == 0) cycle
       r%grids = [r%grids, xdmf_grid_t(lower(etype_name(t)), t, ne, &
-          maxval(model%nen, mask=model%etype == t), model%nn)]
+          maxval(model%nen, mask=model%etype == t), model%nn, ne == model%nel)]
     end do
     if (model%npatch == 0) return
     call iga_viz_init(model, r%viz, model%viz_samples)
@@ -315,7 +315,7 @@ contains
         r%viz_mine(k) = r%viz%first_point(e) + s
       end do
     end do
-    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns)]
+    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns, .false.)]
   end subroutine setup_views
 
   !> Reopens the results file of an interrupted run to continue it from a checkpoint: history

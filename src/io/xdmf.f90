@@ -29,6 +29,9 @@ module ictus_io_xdmf
     integer :: nen = 0
     !> Number of points the cells refer to.
     integer :: npoints = 0
+    !> Whether the block holds every element of the model in the model's order (then the
+    !! per-element fields are its cell fields).
+    logical :: whole = .false.
   end type xdmf_grid_t
 
 contains
@@ -108,8 +111,22 @@ contains
           'Dimensions="', g%npoints, '">'//h5//':/fields/'//sname//'/nodal_mises</DataItem>'
       write(u, '(a)') '     </Attribute>'
     end if
+    if (g%whole) then
+      call cell_scalar(u, 'element_mises', 'mises', h5, sname, g%nel)
+      call cell_scalar(u, 'peeq', 'peeq', h5, sname, g%nel)
+    end if
     write(u, '(a)') '    </Grid>'
   end subroutine grid
+
+  !> A cell scalar: the per-element dataset `dataset` of the snapshot.
+  subroutine cell_scalar(u, name, dataset, h5, sname, nel)
+    integer, intent(in) :: u, nel
+    character(len=*), intent(in) :: name, dataset, h5, sname
+    write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Scalar" Center="Cell">'
+    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', nel, '">'//h5//':/fields/'//sname//'/'//dataset//'</DataItem>'
+    write(u, '(a)') '     </Attribute>'
+  end subroutine cell_scalar
 
   !> A node vector: the (n, 3) padded copy of the 2-component field.
   subroutine attribute(u, name, prefix, h5, sname, nn)

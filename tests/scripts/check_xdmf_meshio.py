@@ -129,7 +129,31 @@ def main():
         for x, b in sidecars:
             check_meshio(c, x, path, b, elsewhere, x)
             check_meshio(c, x, path, b, work, os.path.basename(x))
+    check_cell_fields(c, a.ictus, work)
     c.finish()
+
+
+def check_cell_fields(c, ictus, work):
+    """A model of one FE block (input/hertz/q8_hrz.inp) also shows the per-element von Mises
+    stress and PEEQ as cell fields; meshio reads them equal to the HDF5 datasets."""
+    import meshio
+    import subprocess
+    deck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "input",
+                        "hertz", "q8_hrz.inp")
+    out = os.path.join(work, "q8_hrz.h5")
+    subprocess.run([ictus, deck, "-o", out, "--quiet"], check=True)
+    with meshio.xdmf.TimeSeriesReader(out[:-3] + ".xdmf") as r:
+        r.read_points_cells()
+        bad = []
+        for k, (step, _) in enumerate(xc.snapshots(out)):
+            _, _, cd = r.read_data(k)
+            for name, dataset in (("element_mises", "mises"), ("peeq", "peeq")):
+                got = cd.get(name)
+                if got is None or not np.array_equal(np.ravel(got[0]),
+                                                     xc.field(out, step, dataset)):
+                    bad.append(f"{name} of {step}")
+    c.check(not bad, "meshio q8_hrz.xdmf: the cell fields element_mises and peeq of every step "
+            "equal the HDF5 datasets", ", ".join(bad[:5]))
 
 
 if __name__ == "__main__":
