@@ -216,21 +216,38 @@ contains
     real(dp), intent(out) :: sig(6, shp%ngp)
     integer, intent(out) :: ierr
     real(dp), intent(out), optional :: eps(6, shp%ngp)
-    real(dp) :: dnx(2, nen), detj, w, hist_new(size(hist, 1)), grad(3, 3)
+    real(dp) :: w, hist_new(size(hist, 1)), grad(3, 3, shp%ngp)
     integer :: g
     sig = 0.0_dp
+    call point_gradients(nen, shp, xl, ul, grad, ierr)
+    if (ierr /= 0) return
+    do g = 1, shp%ngp
+      call law%stress(grad(:, :, g), hist(:, g), hist_new, sig(:, g), w)
+      if (present(eps)) eps(:, g) = strain_of(grad(:, :, g), law%kin%nlgeom)
+    end do
+  end subroutine solid2d_stress
+
+  !> The displacement gradient grad(3, 3, ngp) at every quadrature point of shp; ierr: 0, or
+  !! the first point with det J <= 0 (grad is then incomplete).
+  pure subroutine point_gradients(nen, shp, xl, ul, grad, ierr)
+    integer, intent(in) :: nen
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(2, nen), ul(2, nen)
+    real(dp), intent(out) :: grad(3, 3, shp%ngp)
+    integer, intent(out) :: ierr
+    real(dp) :: dnx(2, nen), detj
+    integer :: g
     ierr = 0
+    grad = 0.0_dp
     do g = 1, shp%ngp
       call jacobian(nen, shp, xl, g, detj, dnx)
       if (detj <= 0.0_dp) then
         ierr = g
         return
       end if
-      grad = gradient(nen, dnx, ul)
-      call law%stress(grad, hist(:, g), hist_new, sig(:, g), w)
-      if (present(eps)) eps(:, g) = strain_of(grad, law%kin%nlgeom)
+      grad(:, :, g) = gradient(nen, dnx, ul)
     end do
-  end subroutine solid2d_stress
+  end subroutine point_gradients
 
   !> The strain tensor (xx, yy, zz, xy, yz, zx; tensor shears) of a displacement gradient:
   !! (grad + grad^T)/2 in small strain, the logarithmic strain ln V = ln(F F^T)/2 with NLGEOM.
@@ -266,18 +283,13 @@ contains
     real(dp), intent(in) :: xl(2, nen), ul(2, nen)
     real(dp), intent(out) :: wmax
     integer, intent(out) :: ierr
-    real(dp) :: dnx(2, nen), detj, grad(3, 3)
+    real(dp) :: grad(3, 3, shp%ngp)
     integer :: g
     wmax = 0.0_dp
-    ierr = 0
+    call point_gradients(nen, shp, xl, ul, grad, ierr)
+    if (ierr /= 0) return
     do g = 1, shp%ngp
-      call jacobian(nen, shp, xl, g, detj, dnx)
-      if (detj <= 0.0_dp) then
-        ierr = g
-        return
-      end if
-      grad = gradient(nen, dnx, ul)
-      wmax = max(wmax, 0.5_dp*abs(grad(2, 1) - grad(1, 2)))
+      wmax = max(wmax, 0.5_dp*abs(grad(2, 1, g) - grad(1, 2, g)))
     end do
   end subroutine solid2d_rotation
 
