@@ -20,7 +20,7 @@ module ictus_app_time_loop
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_report
   use ictus_solver_explicit, only: state_t
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
-      stepper_advance
+      stepper_advance, stepper_done
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
   use ictus_solver_fields, only: element_fields_t, element_fields
@@ -80,7 +80,7 @@ contains
     t0 = wall_time()
     call loop_setup(lp, opt, deck, model, dt)
     call log_info('set-up: processed deck formed in '//str(wall_time() - t0, 3)//' s')
-    call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
+    call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, model%t_end, ierr)
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
     call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
@@ -99,6 +99,8 @@ contains
       n_next = next_event(lp, n)
       call stepper_advance(stp, n_next)
       call check_failure(lp, stp)
+      n_next = stp%s%step
+      call steps_left(lp, stp)
       call checkpoint_or_stop(lp, stp, opt, n_next)
       call progress_line(lp, stp, n, n_next)
       n = n_next
@@ -180,6 +182,20 @@ contains
         opt%restart_path)
     call log_info('results: '//lp%out)
   end subroutine open_results
+
+  !> Where the stable step follows the state (the stepper's dt_control), the last step of the
+  !! run as the current dt foresees it: the step at which t reaches t_end. The stepper stops
+  !! there even if dt grows on the way.
+  subroutine steps_left(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    if (.not. stp%dt_control) return
+    if (stepper_done(stp)) then
+      lp%nsteps = stp%s%step
+    else
+      lp%nsteps = stp%s%step + steps_for(stp%t_end - stp%s%t, stp%s%dt)
+    end if
+  end subroutine steps_left
 
   !> Whether a history record or a field snapshot is due at step n.
   logical function output_due(lp, n)

@@ -14,7 +14,7 @@
 !! of sigma_eq d epbar: the dissipation of the energy balance).
 module ictus_materials_j2_plastic
   use ictus_core_kinds, only: dp
-  use ictus_materials_law, only: law_t, voigt_of, tensor_of, det3
+  use ictus_materials_law, only: law_t, voigt_of, tensor_of, det3, stress_norm
   use ictus_materials_elastic, only: elastic_dmat, wave_speed_p
   use ictus_materials_eigen, only: sym_eigen3
   implicit none
@@ -34,6 +34,7 @@ module ictus_materials_j2_plastic
     procedure :: init => j2_init
     procedure :: stress => j2_stress
     procedure :: wave_speed => j2_wave_speed
+    procedure :: wave_ratio => j2_wave_ratio
   end type j2_plastic_t
 
 contains
@@ -223,4 +224,25 @@ contains
     real(dp), intent(in) :: rho
     j2_wave_speed = wave_speed_p(this%e, this%nu, rho, .true.)
   end function j2_wave_speed
+
+  !> c/c_0 in the current state (doc/theory.md §7.1): the Kirchhoff stress is linear in the
+  !! logarithmic elastic strain with the elastic moduli, so the elastic dilatational modulus
+  !! of the Cauchy stress is at most M = (lambda + 2 mu)/J + |sigma| (plastic flow only
+  !! softens); c/c_0 = sqrt(J M/(lambda + 2 mu)). 1 in small strain.
+  pure real(dp) function j2_wave_ratio(this, grad, hist) result(r)
+    class(j2_plastic_t), intent(in) :: this
+    real(dp), intent(in) :: grad(3, 3), hist(:)
+    real(dp) :: sig(6), w, hnew(size(hist)), m0, f(3, 3), detf
+    integer :: i
+    r = 1.0_dp
+    if (.not. this%kin%nlgeom) return
+    f = grad
+    do i = 1, 3
+      f(i, i) = f(i, i) + 1.0_dp
+    end do
+    detf = det3(f)
+    call this%stress(grad, hist, hnew, sig, w)
+    m0 = this%d2(1, 1, 1)
+    r = sqrt(1.0_dp + detf*stress_norm(sig)/m0)
+  end function j2_wave_ratio
 end module ictus_materials_j2_plastic

@@ -7,7 +7,8 @@
 !! of the step and the stored-energy density come out. The element keeps
 !! no state of its own, so a law with history stores it in the state of the run (and so in
 !! checkpoints) through `nhist`. `wave_speed` gives the dilatational wave speed that bounds
-!! the stable time step, and `tangent_2d` the small-strain tangent at the reference state; a
+!! the stable time step at the start, `wave_ratio` how much faster the waves run in the
+!! current state (finite strain: the stable step follows it during the run), and `tangent_2d` the small-strain tangent at the reference state; a
 !! `linear` law's tangent is exact everywhere, so its internal force may be the assembled
 !! product K u (doc/theory.md).
 !!
@@ -15,10 +16,11 @@
 !! stress comes back in Voigt order (xx, yy, zz, xy, yz, zx).
 module ictus_materials_law
   use ictus_core_kinds, only: dp
+  use ictus_materials_eigen, only: sym_eigen3
   implicit none
   private
   public :: law_t, kinematics_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
-      voigt_strain, voigt_of, tensor_of, det3
+      voigt_strain, voigt_of, tensor_of, det3, stretch_measures, stress_norm
 
   !> The kinematic idealisation a law is evaluated in.
   integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2, ANALYSIS_3D = 3
@@ -58,6 +60,11 @@ module ictus_materials_law
     procedure(law_wave_i), deferred :: wave_speed
     !> The tangent at the reference state in 2D Voigt order.
     procedure :: tangent_2d => law_tangent_2d
+    !> c/c_0: the current dilatational wave speed (current density) over that of the
+    !! reference state, for the stable step during a finite-strain run. The default
+    !! holds for a law whose second Piola-Kirchhoff stress has a constant tangent (St.
+    !! Venant-Kirchhoff); a law with another tangent overrides it.
+    procedure :: wave_ratio => law_wave_ratio
   end type law_t
 
   abstract interface
@@ -93,6 +100,45 @@ contains
     real(dp), intent(out) :: d(3, 3)
     d = this%d2(:, :, merge(2, 1, this%kin%analysis == ANALYSIS_PLANE_STRESS))
   end subroutine law_tangent_2d
+
+  !> c/c_0 of a law whose tangent dS/dE is constant (doc/theory.md §7.1): in the current
+  !! state the dilatational modulus is at most M = M_0 lam_max(b)^2/J + |sigma| (M_0 the
+  !! reference modulus lambda + 2 mu, b = F F^T, J = det F, |sigma| the Frobenius norm of
+  !! the Cauchy stress, its geometric stiffness), and with the density rho_0/J,
+  !! c/c_0 = sqrt(J M/M_0). 1 in small strain (the tangent does not change).
+  pure real(dp) function law_wave_ratio(this, grad, hist) result(r)
+    class(law_t), intent(in) :: this
+    real(dp), intent(in) :: grad(3, 3), hist(:)
+    real(dp) :: detf, lmax, sig(6), w, hnew(size(hist)), m0
+    r = 1.0_dp
+    if (.not. this%kin%nlgeom) return
+    call stretch_measures(grad, detf, lmax)
+    call this%stress(grad, hist, hnew, sig, w)
+    m0 = this%d2(1, 1, 1)
+    r = sqrt(detf*(m0*lmax**2/detf + stress_norm(sig))/m0)
+  end function law_wave_ratio
+
+  !> detf = det F and lmax_b the largest eigenvalue of b = F F^T, F = I + grad.
+  pure subroutine stretch_measures(grad, detf, lmax_b)
+    real(dp), intent(in) :: grad(3, 3)
+    real(dp), intent(out) :: detf, lmax_b
+    real(dp) :: f(3, 3), lam(3), v(3, 3)
+    integer :: i
+    f = grad
+    do i = 1, 3
+      f(i, i) = f(i, i) + 1.0_dp
+    end do
+    detf = det3(f)
+    call sym_eigen3(matmul(f, transpose(f)), lam, v)
+    lmax_b = maxval(lam)
+  end subroutine stretch_measures
+
+  !> The Frobenius norm of a symmetric tensor in Voigt order (xx, yy, zz, xy, yz, zx): an
+  !! upper bound of its largest principal value.
+  pure real(dp) function stress_norm(sig)
+    real(dp), intent(in) :: sig(6)
+    stress_norm = sqrt(sum(sig(1:3)**2) + 2.0_dp*sum(sig(4:6)**2))
+  end function stress_norm
 
   !> Determinant of a 3 x 3 matrix.
   pure real(dp) function det3(a)

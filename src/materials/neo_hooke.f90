@@ -7,7 +7,7 @@
 !! In the small-strain limit mu = 2 C10 and the bulk modulus K = 2/D1 (doc/theory.md §1).
 module ictus_materials_neo_hooke
   use ictus_core_kinds, only: dp
-  use ictus_materials_law, only: law_t, voigt_of, det3
+  use ictus_materials_law, only: law_t, voigt_of, det3, stretch_measures, stress_norm
   use ictus_materials_elastic, only: elastic_dmat
   implicit none
   private
@@ -20,6 +20,7 @@ module ictus_materials_neo_hooke
     procedure :: init => nh_init
     procedure :: stress => nh_stress
     procedure :: wave_speed => nh_wave_speed
+    procedure :: wave_ratio => nh_wave_ratio
   end type neo_hooke_t
 
 contains
@@ -78,4 +79,19 @@ contains
     real(dp), intent(in) :: rho
     nh_wave_speed = sqrt((2.0_dp/this%d1 + 8.0_dp*this%c10/3.0_dp)/rho)
   end function nh_wave_speed
+
+  !> c/c_0 in the current state (doc/theory.md §7.1): the dilatational modulus is at most
+  !! M = K + (4/3) mu J^(-5/3) lam_max(b) + |sigma| (bulk part K, isochoric part of the
+  !! stretched chains, geometric stiffness), against M_0 = K + (4/3) mu; c/c_0 = sqrt(J M/M_0).
+  pure real(dp) function nh_wave_ratio(this, grad, hist) result(r)
+    class(neo_hooke_t), intent(in) :: this
+    real(dp), intent(in) :: grad(3, 3), hist(:)
+    real(dp) :: detf, lmax, sig(6), w, hnew(size(hist)), k, mu, m
+    mu = 2.0_dp*this%c10
+    k = 2.0_dp/this%d1
+    call stretch_measures(grad, detf, lmax)
+    call this%stress(grad, hist, hnew, sig, w)
+    m = k + 4.0_dp*mu/3.0_dp*detf**(-5.0_dp/3.0_dp)*lmax + stress_norm(sig)
+    r = sqrt(detf*m/(k + 4.0_dp*mu/3.0_dp))
+  end function nh_wave_ratio
 end module ictus_materials_neo_hooke

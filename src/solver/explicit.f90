@@ -55,7 +55,10 @@ module ictus_solver_explicit
     !> Step counter n and time t_n of the displacement `u`.
     integer :: step = 0
     real(dp) :: t = 0.0_dp
+    !> The step from t_n to t_{n+1} and the one before it (they differ where the stable step
+    !! follows the state: v_{n+1/2} = v_{n-1/2} + (dt_prev + dt)/2 a_n).
     real(dp) :: dt = 0.0_dp
+    real(dp) :: dt_prev = 0.0_dp
     !> u_n (2, nlocal); v_{n-1/2} before a step and v_{n+1/2} after it; last acceleration a.
     real(dp), allocatable :: u(:,:), v(:,:), a(:,:)
     !> Work: force vector, previous half-step velocity, mean velocity, M v.
@@ -107,6 +110,7 @@ contains
     s%nlocal = nl
     s%nglobal = dom%nn_global
     s%dt = dt
+    s%dt_prev = dt
     call alloc_stream(s%u, nd, nl, 0.0_dp)
     call alloc_stream(s%v, nd, nl, 0.0_dp)
     call alloc_stream(s%f, nd, nl, 0.0_dp)
@@ -145,9 +149,10 @@ contains
     integer :: i, nn
     real(dp) :: dt, h, pw
     nn = s%nn
-    dt = s%dt
-    ! a damped consistent step takes the unfused path below
-    s%fused = .not. (record .or. (s%damped .and. mop%consistent))
+    ! the velocity step: (dt_prev + dt)/2, which is dt itself (exactly) while dt stays
+    dt = 0.5_dp*(s%dt_prev + s%dt)
+    ! a damped consistent step, and a step after a change of dt, take the unfused path below
+    s%fused = .not. (record .or. (s%damped .and. mop%consistent) .or. s%dt_prev /= s%dt)
     if (s%fused .and. .not. mop%consistent .and. fop%kind == FORCE_ASSEMBLED) then
       ! the common step in one pass over memory (same operations in the same order as below)
       associate (k => fop%asm%k)
@@ -191,7 +196,7 @@ contains
         s%mv(:, i) = -s%alpha(i)*s%m_pos(i)*s%v_mid(:, i)
       end do
       pw = repro_dot(nn, s%mv, s%v_mid, s%nglobal)
-      if (s%step > 0) s%w_acc = s%w_acc + 0.5_dp*dt*(s%pw_prev + pw)
+      if (s%step > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt_prev*(s%pw_prev + pw)
       s%pw_prev = pw
     end if
     if (record) call state_energies(s, fop, mop, dom)
@@ -206,7 +211,7 @@ contains
     integer, intent(in) :: n, stage
     real(dp) :: pw
     pw = repro_sum(2*s%nn, s%pw(:, :, stage), 2*s%nglobal)
-    if (n > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt*(s%pw_prev + pw)
+    if (n > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt_prev*(s%pw_prev + pw)
     s%pw_prev = pw
   end subroutine add_damping_work
 
@@ -228,6 +233,7 @@ contains
     call halo_exchange(dom%halo, s%u)
     s%step = s%step + 1
     s%t = s%t + s%dt
+    s%dt_prev = s%dt
   end subroutine step_finish
 
   !> Kinetic energy 1/2 v·M v with v at t_n and the strain energy of the force operator at u_n,

@@ -107,6 +107,22 @@ def material_block(name="MAT", e=1000.0, nu=0.2, rho=1.0):
     return f"*MATERIAL, NAME={name}\n*ELASTIC\n{e}, {nu}\n*DENSITY\n{rho}\n"
 
 
+def mesh_points(mesh):
+    """(id, x, y) of every node of the *NODE cards of a mesh text."""
+    pts = []
+    in_nodes = False
+    for line in mesh.splitlines():
+        if line.upper().startswith("*NODE"):
+            in_nodes = True
+            continue
+        if line.startswith("*"):
+            in_nodes = False
+        elif in_nodes and line.strip():
+            v = [s.strip() for s in line.split(",")]
+            pts.append((int(v[0]), float(v[1]), float(v[2])))
+    return pts
+
+
 def rect_mesh(**kw):
     """The cards of a structured rectangle (scripts/mesh/rect.py) as a string."""
     import io

@@ -13,13 +13,14 @@ module ictus_solver_force_element
   use ictus_elements_types, only: elem_shape_t
   use ictus_elements_library, only: element_geometry, element_force
   use ictus_materials_material, only: material_t
+  use ictus_materials_eigen, only: sym_eigen3
   use ictus_solver_model, only: model_t
   use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_assemble, only: element_shape, shape_cache_t
   implicit none
   private
   public :: element_force_t, element_loop_init, element_loop_apply, element_loop_energy, &
-      element_loop_bytes, element_loop_dissipation
+      element_loop_bytes, element_loop_dissipation, element_loop_stable
 
   type :: element_force_t
     !> Elements of this rank (domain_t%elem order), their types, nodes, quadrature points and
@@ -142,6 +143,46 @@ contains
       end do
     end do
   end subroutine element_loop_apply
+
+  !> The stable-step factor of the current state (doc/theory.md §7.1): the smallest over
+  !! this rank's elements and their quadrature points of s = sigma_min(F)/(c/c_0), where
+  !! sigma_min(F) = sqrt(lam_min(F^T F)) is how much the element has shrunk in its most
+  !! compressed direction and c/c_0 the law's `wave_ratio`; 1 in the reference state.
+  !! kmin: the global index of the element that gives it (the first one in this rank's order).
+  !! The history is that of the start of the next step (hist as element_loop_apply leaves it).
+  subroutine element_loop_stable(el, u, hist, smin, kmin)
+    type(element_force_t), intent(inout) :: el
+    real(dp), intent(in) :: u(:,:)
+    real(dp), intent(in) :: hist(:,:,:)
+    real(dp), intent(out) :: smin
+    integer, intent(out) :: kmin
+    real(dp) :: grad(3, 3), f(3, 3), lam(3), v(3, 3), s
+    integer :: k, a, g, i, nen, nd
+    nd = size(el%dnx, 1)
+    smin = huge(1.0_dp)
+    kmin = 0
+    do k = 1, el%nelem
+      nen = el%nen(k)
+      do a = 1, nen
+        el%ul(:, a) = u(:, el%conn(a, k))
+      end do
+      do g = 1, el%ngp(k)
+        grad = 0.0_dp
+        grad(1:nd, 1:nd) = matmul(el%ul(:, 1:nen), transpose(el%dnx(:, 1:nen, g, k)))
+        f = grad
+        do i = 1, 3
+          f(i, i) = f(i, i) + 1.0_dp
+        end do
+        call sym_eigen3(matmul(transpose(f), f), lam, v)
+        s = sqrt(max(minval(lam), 0.0_dp))/ &
+            el%materials(el%mat(k))%law%wave_ratio(grad, hist(:, g, k))
+        if (s < smin) then
+          smin = s
+          kmin = el%elem(k)
+        end if
+      end do
+    end do
+  end subroutine element_loop_stable
 
   !> Stored energy at the last apply: the sum over this rank's own elements, reproducible.
   function element_loop_energy(el) result(e)

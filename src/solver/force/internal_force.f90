@@ -18,11 +18,13 @@ module ictus_solver_internal_force
   use ictus_solver_force_assembled, only: assembled_force_t, assembled_init, assembled_apply, &
       assembled_energy
   use ictus_solver_force_element, only: element_force_t, element_loop_init, &
-      element_loop_apply, element_loop_energy, element_loop_bytes, element_loop_dissipation
+      element_loop_apply, element_loop_energy, element_loop_bytes, element_loop_dissipation, &
+      element_loop_stable
   implicit none
   private
   public :: force_op_t, force_op_init, force_apply, force_energy, force_kind_name, &
-      force_choice, force_hist_shape, force_dissipation, force_dissipates, FORCE_ASSEMBLED, &
+      force_choice, force_hist_shape, force_dissipation, force_dissipates, force_stable, &
+      FORCE_ASSEMBLED, &
       FORCE_ELEMENT
 
   type :: force_op_t
@@ -110,6 +112,20 @@ contains
     e = 0.0_dp
     if (fop%kind == FORCE_ELEMENT) e = element_loop_dissipation(fop%el)
   end function force_dissipation
+
+  !> This rank's stable-step factor of the current state (ictus_solver_force_element's
+  !! element_loop_stable) and the global index of the element that gives it; 1 and 0 for the
+  !! assembled K (a linear model in small strain keeps its start-up step).
+  subroutine force_stable(fop, u, hist, smin, kmin)
+    type(force_op_t), intent(inout) :: fop
+    real(dp), intent(in) :: u(:,:)
+    real(dp), intent(in) :: hist(:,:,:)
+    real(dp), intent(out) :: smin
+    integer, intent(out) :: kmin
+    smin = 1.0_dp
+    kmin = 0
+    if (fop%kind == FORCE_ELEMENT) call element_loop_stable(fop%el, u, hist, smin, kmin)
+  end subroutine force_stable
 
   !> Whether any material law dissipates energy (then the energy balance has a plastic-work
   !! term).

@@ -15,7 +15,7 @@ module ictus_solver_stepper
   use ictus_core_logger, only: log_info
   use ictus_core_errors, only: warning
   use ictus_core_strings, only: str
-  use ictus_parallel_env, only: env_size, allreduce_sum, allreduce_max
+  use ictus_parallel_env, only: env_size, allreduce_sum, allreduce_max, allreduce_min
   use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t, contact_failures
   use ictus_solver_model, only: model_t
@@ -23,13 +23,20 @@ module ictus_solver_stepper
   use ictus_solver_assemble, only: operators_t
   use ictus_solver_mass_operator, only: mass_op_t
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
-      force_kind_name, FORCE_ASSEMBLED, FORCE_ELEMENT
+      force_kind_name, force_stable, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
   implicit none
   private
-  public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance
+  public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
+      stepper_done, DT_REFRESH, DT_FLOOR
+
+  !> With finite strain the stable step follows the state (doc/theory.md §7.1): it is
+  !! estimated anew every DT_REFRESH steps, and a step below DT_FLOOR times the start-up step
+  !! stops the run.
+  integer, parameter :: DT_REFRESH = 10
+  real(dp), parameter :: DT_FLOOR = 1.0e-3_dp
 
   type :: stepper_t
     !> The state of the run (u, v, history, energies, step counter).
@@ -54,6 +61,14 @@ module ictus_solver_stepper
     integer(8) :: failures = 0
     !> Why the last call stopped, when it failed at run time (empty otherwise).
     character(len=:), allocatable :: failure
+    !> The stable step during the run: whether it follows the state (finite strain with the
+    !! element loop), the start-up step, the end time, the step at which dt was last
+    !! estimated, and the dt of the last log line about it.
+    logical :: dt_control = .false.
+    real(dp) :: dt0 = 0.0_dp
+    real(dp) :: t_end = 0.0_dp
+    integer :: dt_step = -1
+    real(dp) :: dt_logged = 0.0_dp
   end type stepper_t
 
 contains
@@ -62,7 +77,7 @@ contains
   !! (prescribed u_0, v_0, the start-up half-step velocity) and the contact bookkeeping. The
   !! arguments stay with the caller and must outlive the stepper. ierr: 0, or the global
   !! index of an element whose geometry fails.
-  subroutine stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
+  subroutine stepper_init(stp, model, dom, ops, mop, contact, cs, dt, t_end, ierr)
     type(stepper_t), intent(out) :: stp
     type(model_t), target, intent(in) :: model
     type(domain_t), target, intent(inout) :: dom
@@ -70,7 +85,7 @@ contains
     type(mass_op_t), target, intent(inout) :: mop
     type(contact_t), target, intent(inout) :: contact
     type(contact_step_t), target, intent(inout) :: cs
-    real(dp), intent(in) :: dt
+    real(dp), intent(in) :: dt, t_end
     integer, intent(out) :: ierr
     real(dp), allocatable :: alpha(:)
     stp%model => model
@@ -84,6 +99,13 @@ contains
     call force_op_init(stp%fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
     if (ierr /= 0) return
     call log_info('internal force: '//force_kind_name(stp%fop))
+    stp%dt0 = dt
+    stp%dt_logged = dt
+    stp%t_end = t_end
+    stp%dt_control = stp%fop%kind == FORCE_ELEMENT .and. model%nlgeom
+    if (stp%dt_control) call log_info('stable step: estimated every '//str(DT_REFRESH)// &
+        ' steps from the current state (never above the start-up dt; the run stops below '// &
+        '1/1000 of it)')
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
     call state_init(stp%s, stp%fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
@@ -123,6 +145,8 @@ contains
   !! `stepper_advance`.
   subroutine stepper_record(stp)
     type(stepper_t), intent(inout) :: stp
+    call refresh_dt(stp)
+    if (len(stp%failure) > 0) return
     call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .true.)
     stp%pending = .true.
     if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
@@ -131,7 +155,8 @@ contains
 
   !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
   !! step, then windows of one sweep where the linear lumped stepper has them, single steps
-  !! otherwise. Stops early with stp%failure set on a run-time failure.
+  !! otherwise. Stops early with stp%failure set on a run-time failure, and where the step
+  !! follows the state, at the end time (`stepper_done`).
   subroutine stepper_advance(stp, n_to)
     type(stepper_t), intent(inout) :: stp
     integer, intent(in) :: n_to
@@ -142,11 +167,14 @@ contains
       call step_finish(stp%s, stp%dom)
     end if
     do while (stp%s%step < n_to .and. len(stp%failure) == 0)
+      if (stp%dt_control .and. stepper_done(stp)) exit
       if (stp%ls%on .and. stp%ls%kept .and. stp%s%step + stp%ls%plan%nstage <= n_to) then
         tuning = stp%ls%tuning
         call sweeps_window(stp%ls, stp%s, stp%fop, stp%mop, stp%dom, contact_between)
         if (tuning .and. .not. stp%ls%tuning) call log_tuning(stp%ls)
       else
+        call refresh_dt(stp)
+        if (len(stp%failure) > 0) return
         call step_predict(stp%s, stp%fop, stp%mop, stp%dom, .false.)
         if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
         call check_inverted(stp)
@@ -183,6 +211,48 @@ contains
       end do
     end subroutine contact_between
   end subroutine stepper_advance
+
+  !> Whether the state has reached the end time (the last step ends at or just after it).
+  pure logical function stepper_done(stp)
+    type(stepper_t), intent(in) :: stp
+    stepper_done = stp%s%t >= stp%t_end*(1.0_dp - 1.0e-12_dp)
+  end function stepper_done
+
+  !> The stable step of the current state, every DT_REFRESH steps where it follows the state
+  !! (doc/theory.md §7.1): dt = dt0 min(1, s) with s the smallest factor of the elements
+  !! (force_stable), the same on every rank. A line in the log when dt has moved by more than
+  !! 10 % since the last one; below DT_FLOOR dt0 a run-time failure naming the element.
+  subroutine refresh_dt(stp)
+    type(stepper_t), intent(inout) :: stp
+    real(dp) :: smin, sglob, dt
+    integer :: kmin
+    if (.not. stp%dt_control) return
+    if (mod(stp%s%step, DT_REFRESH) /= 0 .or. stp%s%step == stp%dt_step) return
+    stp%dt_step = stp%s%step
+    call force_stable(stp%fop, stp%s%u, stp%s%hist, smin, kmin)
+    sglob = smin
+    call allreduce_min(sglob)
+    if (smin > sglob) kmin = 0
+    kmin = -kmin
+    if (kmin == 0) kmin = -huge(1)
+    call allreduce_max(kmin)
+    kmin = -kmin
+    dt = stp%dt0*min(1.0_dp, sglob)
+    if (dt < DT_FLOOR*stp%dt0) then
+      stp%failure = 'the stable time step fell to '//str(dt, 4)//', below '// &
+          '1/1000 of the start-up step '//str(stp%dt0, 4)//', at '// &
+          etype_name(stp%model%etype(kmin))//' element '//str(stp%model%elem_id(kmin))// &
+          ' (squeezed to '//str(sglob, 4)//' of its wave transit time)'
+      return
+    end if
+    stp%s%dt = dt
+    if (abs(dt - stp%dt_logged) > 0.1_dp*stp%dt_logged) then
+      stp%dt_logged = dt
+      call log_info('stable step: dt = '//str(dt, 4)//' ('//str(dt/stp%dt0, 4)//' of the '// &
+          'start-up step) at step '//str(stp%s%step)//', t = '//str(stp%s%t, 5)//'; set by '// &
+          etype_name(stp%model%etype(kmin))//' element '//str(stp%model%elem_id(kmin)))
+    end if
+  end subroutine refresh_dt
 
   !> With finite strain, an element whose deformation gradient has det F <= 0 at a quadrature
   !! point (found by the last internal force, on any rank) is a run-time failure.

@@ -98,7 +98,7 @@ contains
     call domain_init(r%dom, model, ierr)
     call assemble_operators(model, r%dom, r%ops, bad, nbad)
     call mass_op_init(r%mop, r%dom, .false., r%ops%m, r%ops%m_diag, model%fixed)
-    call stepper_init(r%stp, model, r%dom, r%ops, r%mop, r%contact, r%cs, dt, ierr)
+    call stepper_init(r%stp, model, r%dom, r%ops, r%mop, r%contact, r%cs, dt, huge(1.0_dp), ierr)
     call stepper_plan(r%stp)
   end subroutine run_setup
 
