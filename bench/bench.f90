@@ -53,16 +53,18 @@ program ictus_bench
   use ictus_io_deck_reader, only: read_deck
   use ictus_app_build_model, only: build_model
   use ictus_app_build_contact, only: build_contact
+  use ictus_bench_hook, only: bench_hook_t
   implicit none
   type(deck_t) :: deck
-  type(model_t) :: model
-  type(domain_t) :: dom
+  type(model_t), target :: model
+  type(domain_t), target :: dom
   type(operators_t) :: ops
-  type(mass_op_t) :: mop
+  type(mass_op_t), target :: mop
   type(tensor_layout_t) :: layout
-  type(contact_t) :: contact
-  type(contact_step_t) :: cs
-  type(state_t) :: s
+  type(contact_t), target :: contact
+  type(contact_step_t), target :: cs
+  type(state_t), target :: s
+  type(bench_hook_t) :: between
   type(force_op_t) :: fop, fop_el
   type(lumped_sweeps_t) :: ls
   real(dp), allocatable :: hist_el(:,:,:)
@@ -138,6 +140,12 @@ program ictus_bench
   allocate(hist_el(fop_el%el%nhist, size(fop_el%el%dvol, 1), fop_el%el%nelem), source=0.0_dp)
   call state_init(s, fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
       model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
+  between%cs => cs
+  between%contact => contact
+  between%s => s
+  between%mop => mop
+  between%dom => dom
+  between%x0 => model%x0
   n = dom%nowned
   ! a rough start velocity (a fixed pseudo-random field of the global node numbers, all
   ! modes excited) on top of the deck's, so that the accelerations change from step to step
@@ -346,15 +354,10 @@ contains
     integer :: k
     do k = 1, m
       call step_predict(s, fop, mop, dom, .false.)
-      call between()
+      call between%run()
       call step_finish(s, dom)
     end do
   end subroutine single_steps
-
-  !> The contact correction between predictor and update.
-  subroutine between()
-    if (contact%npairs > 0) call contact_correct(cs, contact, s, mop, dom, model%x0)
-  end subroutine between
 
   !> One pass that only reads what K u reads of K: the nb blocks (4 reals each), their
   !! column indices and the n + 1 row pointers, summed into `total` (8 lanes for the reals,

@@ -16,7 +16,7 @@ module ictus_app_build_model
   use ictus_elements_library, only: etype_name, element_default_ngauss
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
-  use ictus_materials_material, only: material_make_law
+  use ictus_materials_material, only: material_make_law, material_t
   use ictus_solver_model, only: model_t, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
       MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
@@ -65,6 +65,17 @@ contains
     call build_materials(deck, model)
     call build_patches(deck, model)
     call build_nodes(deck, model, node_map, nfe)
+    ! the internal force first: AUTO dilatation depends on it
+    if (deck%has_step) then
+      select case (deck%step%internal_force)
+      case ('ASSEMBLED')
+        model%force_kind = FORCE_ASSEMBLED
+      case ('ELEMENT')
+        model%force_kind = FORCE_ELEMENT
+      case default
+        model%force_kind = FORCE_AUTO
+      end select
+    end if
     call build_elements(deck, model, node_map)
     call build_conditions(deck, model)
     call build_mass_damping(deck, model)
@@ -87,14 +98,6 @@ contains
       end select
       model%mass_passes = deck%step%mass_passes
       if (deck%step%energy_warning > 0.0_dp) model%energy_warning = deck%step%energy_warning
-      select case (deck%step%internal_force)
-      case ('ASSEMBLED')
-        model%force_kind = FORCE_ASSEMBLED
-      case ('ELEMENT')
-        model%force_kind = FORCE_ELEMENT
-      case default
-        model%force_kind = FORCE_AUTO
-      end select
       model%sweep_steps = deck%step%sweep_steps
       model%history_every = deck%step%history_every
       model%field_every = deck%step%field_every
@@ -320,7 +323,8 @@ contains
     model%nel = nel
     model%nen_max = nen_max
     allocate(model%etype(nel), model%nen(nel), model%conn(nen_max, nel), model%mat(nel), &
-        model%gauss(2, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel))
+        model%gauss(2, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel), &
+        model%mean_dil(nel))
     ! a second model in the same process (tests, tools) replaces the first one's origins
     if (allocated(origin%where)) deallocate(origin%where)
     allocate(origin%where(nel))
@@ -339,6 +343,8 @@ contains
           model%nen(e) = b%nen
           model%mat(e) = max(m, 1)
           model%gauss(:, e) = g
+          model%mean_dil(e) = mean_dilatation_of(b%dilatation, model%materials(max(m, 1)), &
+              model%force_kind)
           model%elem_id(e) = b%ids(k)
           model%patch(e) = 0
           model%patch_elem(e) = 0
@@ -365,6 +371,8 @@ contains
           model%nen(e) = pt%nen
           model%mat(e) = max(m, 1)
           model%gauss(:, e) = pt%p + 1
+          model%mean_dil(e) = mean_dilatation_of(deck%patches(ip)%dilatation, &
+              model%materials(max(m, 1)), model%force_kind)
           model%elem_id(e) = ie
           model%patch(e) = ip
           model%patch_elem(e) = ie
@@ -375,6 +383,17 @@ contains
       end associate
     end do
   end subroutine build_elements
+
+  !> Whether an element shares its mean dilatation: DILATATION=MEAN (2) or FULL (1) as the
+  !! deck says, else (AUTO) where its law is (nearly) isochoric, unless the deck asks for the
+  !! assembled K (INTERNAL FORCE=ASSEMBLED: the full formulation).
+  logical function mean_dilatation_of(choice, mat, force_kind)
+    integer, intent(in) :: choice, force_kind
+    type(material_t), intent(in) :: mat
+    mean_dilatation_of = choice == 2
+    if (choice == 0 .and. force_kind /= FORCE_ASSEMBLED .and. allocated(mat%law)) &
+        mean_dilatation_of = mat%law%isochoric
+  end function mean_dilatation_of
 
   !> Elements of element set `name` (an ELSET, or a patch name) into `mask`.
   recursive subroutine resolve_elem_set(deck, model, name, where, mask, depth)

@@ -145,8 +145,6 @@ contains
     integer, intent(out) :: n
     type(checkpoint_t) :: ck
     character(len=:), allocatable :: msg
-    integer, allocatable :: drop(:)
-    integer :: j
     logical :: ok
     n = 0
     if (.not. allocated(opt%restart_path)) then
@@ -168,10 +166,8 @@ contains
     lp%e0 = ck%e0
     stp%was_active = ck%was_active
     stp%failures = ck%failures
-    drop = pack([(j, j = n, lp%nsteps)], [(mod(j, lp%field_every) == 0 .or. &
-        j == lp%nsteps, j = n, lp%nsteps)])
     call results_reopen(lp%res, lp%out, model, dom, contact, ck%n_history, ck%field_steps, &
-        ck%field_times, drop, ok)
+        ck%field_times, ok)
     if (.not. ok) then
       call input_error(lp%out, 'cannot reopen the results file of the interrupted run '// &
           '(give it with -o if it is not the default)')

@@ -243,9 +243,10 @@ contains
   !! shp, node coordinates xl(ndm, nen) and material mat (whose law knows its kinematics: 2D
   !! idealisation, small or finite strain).
   !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
-  !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. Results go to `out` (element_out_t),
+  !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. `mean` (optional): the element shares
+  !! its mean dilatation (B-bar / F-bar, doc/theory.md §2.1). Results go to `out` (element_out_t),
   !! whose arrays are allocated to fit.
-  subroutine element_routine(task, etype, shp, xl, mat, out, ul, hist_old, hist_new)
+  subroutine element_routine(task, etype, shp, xl, mat, out, ul, hist_old, hist_new, mean)
     integer, intent(in) :: task, etype
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(:,:)
@@ -253,6 +254,7 @@ contains
     type(element_out_t), intent(inout) :: out
     real(dp), intent(in), optional :: ul(:,:), hist_old(:,:)
     real(dp), intent(out), optional :: hist_new(:,:)
+    logical, intent(in), optional :: mean
     real(dp), allocatable :: dnx(:,:,:), dvol(:), h0(:,:), h1(:,:)
     real(dp) :: d(3, 3)
     integer :: nen, nh
@@ -278,12 +280,12 @@ contains
       call element_geometry(etype, shp, xl, dnx, dvol, out%ierr)
       if (out%ierr /= 0) return
       call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, h0, h1, out%p, &
-          out%scalar, out%ierr)
+          out%scalar, out%ierr, mean)
       if (present(hist_new)) hist_new = h1
     case (TASK_STRESS)
       call fit(out%sig, 6, shp%ngp)
       call fit(out%eps, 6, shp%ngp)
-      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps)
+      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
     case (TASK_JACOBIAN)
       call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
     case (TASK_ROTATION)
@@ -324,15 +326,17 @@ contains
   !! hist_old/hist_new (nhist, ngp); ierr: 0, or the first point with det F <= 0. Called for
   !! every element in every step of the element-loop force.
   subroutine element_force(etype, nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, &
-      energy, ierr)
+      energy, ierr, mean)
     integer, intent(in) :: etype, nen, ngp
     integer, intent(out) :: ierr
     real(dp), intent(in) :: dnx(:,:,:), dvol(:), ul(:,:), hist_old(:,:)
     class(law_t), intent(in) :: law
     real(dp), intent(out) :: hist_new(:,:), f(:,:), energy
+    logical, intent(in), optional :: mean
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
-      call solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr)
+      call solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr, &
+          mean)
     case default
       ierr = -1
     end select

@@ -144,13 +144,15 @@ contains
   !! (total Lagrangian) f_a = sum_g (P . grad_X N_a) dvol_g with the first Piola-Kirchhoff
   !! stress P = J sigma F^-T of the deformation gradient F = I + grad_X u (F_33 = 1 in 2D).
   !! The energy is sum_g w_g dvol_g (per unit reference volume).
+  !! With `mean` (mean dilatation, doc/theory.md §2.1) the law sees the gradient of
+  !! `mean_dilatation` instead, and the force is the variation of that energy (`mean_force`).
   !! nen; ngp; dnx(2, nen, ngp); dvol(ngp); ul(2, nen): displacements; law (with its
   !! kinematics);
   !! hist_old(:, ngp), hist_new(:, ngp): history per point (first dimension nhist, may be 0);
   !! f(2, nen); energy; ierr: 0, or the first point with det F <= 0 (an inverted element; f is
   !! then incomplete).
   pure subroutine solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, &
-      ierr)
+      ierr, mean)
     integer, intent(in) :: nen, ngp
     real(dp), intent(in) :: dnx(2, nen, ngp), dvol(ngp), ul(2, nen)
     class(law_t), intent(in) :: law
@@ -158,8 +160,15 @@ contains
     real(dp), intent(out) :: hist_new(:,:)
     real(dp), intent(out) :: f(2, nen), energy
     integer, intent(out) :: ierr
+    logical, intent(in), optional :: mean
     real(dp) :: sig(6), w, grad(3, 3), p(2, 2), detf, finv(2, 2), s2(2, 2)
     integer :: g, a
+    if (present(mean)) then
+      if (mean) then
+        call mean_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr)
+        return
+      end if
+    end if
     f = 0.0_dp
     energy = 0.0_dp
     ierr = 0
@@ -193,6 +202,111 @@ contains
     end do
   end subroutine solid2d_force
 
+  !> The gradients grad(3, 3, ngp) made to share the element's mean dilatation (B-bar in
+  !! small strain, F-bar with NLGEOM; doc/theory.md §2.1): small strain
+  !! grad + (theta - tr grad)/2 I with theta = the volume mean of tr grad; finite strain
+  !! F-bar = (theta/J)^(1/2) F with J = det F and theta = sum J dvol / sum dvol (current over
+  !! reference area). In-plane only: the out-of-plane stretch stays 1 in plane strain.
+  !! jac(ngp): J at the points (1 in small strain), theta; ierr: the first point with J <= 0.
+  pure subroutine mean_dilatation(ngp, grad, dvol, nlgeom, jac, theta, ierr)
+    integer, intent(in) :: ngp
+    real(dp), intent(inout) :: grad(3, 3, ngp)
+    real(dp), intent(in) :: dvol(ngp)
+    logical, intent(in) :: nlgeom
+    real(dp), intent(out) :: jac(ngp), theta
+    integer, intent(out) :: ierr
+    real(dp) :: f(2, 2), c
+    integer :: g
+    ierr = 0
+    do g = 1, ngp
+      if (nlgeom) then
+        jac(g) = (1.0_dp + grad(1, 1, g))*(1.0_dp + grad(2, 2, g)) - grad(1, 2, g)*grad(2, 1, g)
+        if (.not. jac(g) > 0.0_dp) then
+          ierr = g
+          return
+        end if
+      else
+        jac(g) = grad(1, 1, g) + grad(2, 2, g)
+      end if
+    end do
+    theta = sum(jac*dvol)/sum(dvol)
+    do g = 1, ngp
+      if (nlgeom) then
+        c = sqrt(theta/jac(g))
+        f = grad(1:2, 1:2, g)
+        f(1, 1) = f(1, 1) + 1.0_dp
+        f(2, 2) = f(2, 2) + 1.0_dp
+        f = c*f
+        f(1, 1) = f(1, 1) - 1.0_dp
+        f(2, 2) = f(2, 2) - 1.0_dp
+        grad(1:2, 1:2, g) = f
+      else
+        c = 0.5_dp*(theta - jac(g))
+        grad(1, 1, g) = grad(1, 1, g) + c
+        grad(2, 2, g) = grad(2, 2, g) + c
+        jac(g) = 1.0_dp
+      end if
+    end do
+  end subroutine mean_dilatation
+
+  !> The internal force of the mean-dilatation element: the variation of sum_g w(grad-bar_g)
+  !! dvol_g (doc/theory.md §2.1). With tau the Kirchhoff stress at grad-bar (J-bar sigma,
+  !! J-bar = theta; sigma in small strain), its in-plane mean p = tr tau / 2 and
+  !! grad_x N = F^-T grad_X N (grad_X N in small strain):
+  !!     f_a = sum_g (tau - p I) grad_x N_a dvol_g + (sum_g p_g dvol_g)/(sum_g J_g dvol_g)
+  !!           sum_g J_g grad_x N_a dvol_g.
+  pure subroutine mean_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr)
+    integer, intent(in) :: nen, ngp
+    real(dp), intent(in) :: dnx(2, nen, ngp), dvol(ngp), ul(2, nen)
+    class(law_t), intent(in) :: law
+    real(dp), intent(in) :: hist_old(:,:)
+    real(dp), intent(out) :: hist_new(:,:)
+    real(dp), intent(out) :: f(2, nen), energy
+    integer, intent(out) :: ierr
+    real(dp) :: grad(3, 3, ngp), gbar(3, 3, ngp), jac(ngp), theta, sig(6), w, tau(2, 2), pm
+    real(dp) :: ptot, dx(2, nen, ngp), finv(2, 2), dj
+    integer :: g, a
+    f = 0.0_dp
+    energy = 0.0_dp
+    do g = 1, ngp
+      grad(:, :, g) = gradient(nen, dnx(:, :, g), ul)
+    end do
+    gbar = grad
+    call mean_dilatation(ngp, gbar, dvol, law%kin%nlgeom, jac, theta, ierr)
+    if (ierr /= 0) return
+    ptot = 0.0_dp
+    do g = 1, ngp
+      ! spatial derivatives grad_x N = F^-T grad_X N (the reference ones in small strain)
+      if (law%kin%nlgeom) then
+        dj = jac(g)
+        finv(1, 1) = (1.0_dp + grad(2, 2, g))/dj
+        finv(2, 2) = (1.0_dp + grad(1, 1, g))/dj
+        finv(1, 2) = -grad(1, 2, g)/dj
+        finv(2, 1) = -grad(2, 1, g)/dj
+        dx(:, :, g) = matmul(transpose(finv), dnx(:, :, g))
+      else
+        dx(:, :, g) = dnx(:, :, g)
+      end if
+      call law%stress(gbar(:, :, g), hist_old(:, g), hist_new(:, g), sig, w)
+      energy = energy + w*dvol(g)
+      tau = tensor_of2(sig)
+      if (law%kin%nlgeom) tau = theta*tau
+      pm = 0.5_dp*(tau(1, 1) + tau(2, 2))
+      ptot = ptot + pm*dvol(g)
+      tau(1, 1) = tau(1, 1) - pm
+      tau(2, 2) = tau(2, 2) - pm
+      do a = 1, nen
+        f(:, a) = f(:, a) + dvol(g)*matmul(tau, dx(:, a, g))
+      end do
+    end do
+    ptot = ptot/sum(jac*dvol)
+    do g = 1, ngp
+      do a = 1, nen
+        f(:, a) = f(:, a) + ptot*jac(g)*dvol(g)*dx(:, a, g)
+      end do
+    end do
+  end subroutine mean_force
+
   !> The in-plane part (2, 2) of the symmetric tensor of Voigt components v.
   pure function tensor_of2(v) result(a)
     real(dp), intent(in) :: v(6)
@@ -207,7 +321,7 @@ contains
   !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; hist(:, ngp): the
   !! history per point; sig(6, shp%ngp): (xx, yy, zz, xy, yz, zx) per point; ierr: 0, or the
   !! first point with det J <= 0.
-  pure subroutine solid2d_stress(nen, shp, xl, ul, law, hist, sig, ierr, eps)
+  pure subroutine solid2d_stress(nen, shp, xl, ul, law, hist, sig, ierr, eps, mean)
     integer, intent(in) :: nen
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(2, nen), ul(2, nen)
@@ -216,11 +330,17 @@ contains
     real(dp), intent(out) :: sig(6, shp%ngp)
     integer, intent(out) :: ierr
     real(dp), intent(out), optional :: eps(6, shp%ngp)
-    real(dp) :: w, hist_new(size(hist, 1)), grad(3, 3, shp%ngp)
+    logical, intent(in), optional :: mean
+    real(dp) :: w, hist_new(size(hist, 1)), grad(3, 3, shp%ngp), dvol(shp%ngp), jac(shp%ngp)
+    real(dp) :: theta
     integer :: g
     sig = 0.0_dp
-    call point_gradients(nen, shp, xl, ul, grad, ierr)
+    call point_gradients(nen, shp, xl, ul, grad, ierr, dvol)
     if (ierr /= 0) return
+    if (present(mean)) then
+      if (mean) call mean_dilatation(shp%ngp, grad, dvol, law%kin%nlgeom, jac, theta, ierr)
+      if (ierr /= 0) return
+    end if
     do g = 1, shp%ngp
       call law%stress(grad(:, :, g), hist(:, g), hist_new, sig(:, g), w)
       if (present(eps)) eps(:, g) = strain_of(grad(:, :, g), law%kin%nlgeom)
@@ -228,13 +348,15 @@ contains
   end subroutine solid2d_stress
 
   !> The displacement gradient grad(3, 3, ngp) at every quadrature point of shp; ierr: 0, or
-  !! the first point with det J <= 0 (grad is then incomplete).
-  pure subroutine point_gradients(nen, shp, xl, ul, grad, ierr)
+  !! the first point with det J <= 0 (grad is then incomplete); dvol (optional): det J times
+  !! the weight at the points.
+  pure subroutine point_gradients(nen, shp, xl, ul, grad, ierr, dvol)
     integer, intent(in) :: nen
     type(elem_shape_t), intent(in) :: shp
     real(dp), intent(in) :: xl(2, nen), ul(2, nen)
     real(dp), intent(out) :: grad(3, 3, shp%ngp)
     integer, intent(out) :: ierr
+    real(dp), intent(out), optional :: dvol(shp%ngp)
     real(dp) :: dnx(2, nen), detj
     integer :: g
     ierr = 0
@@ -246,6 +368,7 @@ contains
         return
       end if
       grad(:, :, g) = gradient(nen, dnx, ul)
+      if (present(dvol)) dvol(g) = detj*shp%w(g)
     end do
   end subroutine point_gradients
 

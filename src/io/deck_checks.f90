@@ -56,6 +56,7 @@ contains
     call check_sets(d, names)
     call check_uses(d, names)
     call check_sections(d, names, iand(skip, SKIP_MATERIALS) /= 0)
+    call check_dilatation(d)
   end subroutine check_deck
 
   !> The law of material m against the step: *HYPERELASTIC needs NLGEOM=YES; *PLASTIC needs
@@ -83,6 +84,24 @@ contains
         'material '//trim(m%name)//' is '//trim(merge('nonlinear        ', &
         'in finite strain ', m%has_plastic .or. m%has_hyperelastic))//' (use AUTO or ELEMENT)')
   end subroutine check_laws
+
+  !> DILATATION=MEAN on an *ELEMENT or *PATCH card needs the element loop: INTERNAL
+  !! FORCE=ASSEMBLED (the constant K of the full formulation) is refused with it.
+  subroutine check_dilatation(d)
+    type(deck_t), intent(in) :: d
+    integer :: k
+    if (d%step%internal_force /= 'ASSEMBLED') return
+    do k = 1, d%n_blocks
+      if (d%blocks(k)%dilatation == 2) call input_error(d%blocks(k)%where, '*ELEMENT: '// &
+          'DILATATION=MEAN needs the element loop, but *DYNAMIC, EXPLICIT asks for INTERNAL '// &
+          'FORCE=ASSEMBLED at '//trim(d%step%dynamic_where)//' (use AUTO or ELEMENT)')
+    end do
+    do k = 1, d%n_patches
+      if (d%patches(k)%dilatation == 2) call input_error(d%patches(k)%where, '*PATCH: '// &
+          'DILATATION=MEAN needs the element loop, but *DYNAMIC, EXPLICIT asks for INTERNAL '// &
+          'FORCE=ASSEMBLED at '//trim(d%step%dynamic_where)//' (use AUTO or ELEMENT)')
+    end do
+  end subroutine check_dilatation
 
   !> *SOLID SECTION: its element set and its material are defined.
   subroutine check_sections(d, names, skip_materials)

@@ -115,7 +115,10 @@ contains
       associate (b => d%blocks(k))
         line = '*ELEMENT, TYPE='//etype_name(b%etype)//', MATERIAL='//trim(b%material)
         if (len_trim(b%elset) > 0) line = line//', ELSET='//trim(b%elset)
-        call put(t, line//', GAUSS='//str(b%gauss))
+        line = line//', GAUSS='//str(b%gauss)
+        if (b%dilatation > 0) line = line//', DILATATION='//trim(merge('FULL', 'MEAN', &
+            b%dilatation == 1))
+        call put(t, line)
         nshow = shown_count(size(b%ids), full)
         do e = 1, nshow
           line = str(b%ids(e))
@@ -135,12 +138,16 @@ contains
     logical, intent(in) :: full
     type(text_t), intent(inout) :: t
     integer :: k, nshow, ncp
+    character(len=:), allocatable :: line
 
     do k = 1, d%n_patches
       associate (p => d%patches(k))
-        call put(t, '*PATCH, NAME='//trim(p%name)//', MATERIAL='//trim(p%material)// &
+        line = '*PATCH, NAME='//trim(p%name)//', MATERIAL='//trim(p%material)// &
             ', DEGREE='//str(p%degree(1))//','//str(p%degree(2))//', SIZE='// &
-            str(p%size(1))//','//str(p%size(2)))
+            str(p%size(1))//','//str(p%size(2))
+        if (p%dilatation > 0) line = line//', DILATATION='//trim(merge('FULL', 'MEAN', &
+            p%dilatation == 1))
+        call put(t, line)
         if (allocated(p%knots1)) then
           call put(t, '*KNOTS, DIRECTION=1')
           call put_reals(t, p%knots1)

@@ -148,7 +148,7 @@ contains
   end subroutine reserve_nodes
 
   !> *ELEMENT, TYPE=Q4|Q8|Q9 (or an Abaqus name), [MATERIAL=name] [, ELSET=name]
-  !! [, GAUSS=2|3]: data lines "id, n1, ..., nen". Data lines from different files go to
+  !! [, GAUSS=2|3] [, DILATATION=FULL|MEAN]: data lines "id, n1, ..., nen". Data lines from different files go to
   !! separate blocks. Line elements (T3D2, T3D3, as gmsh writes a boundary) go to
   !! `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
   subroutine read_element(c, rd, d)
@@ -162,8 +162,9 @@ contains
     integer :: i, n, k, nel, g(1), file, id, conn(9), gauss
     logical :: ok
 
-    call check_params(c, 'TYPE|ELSET|MATERIAL|GAUSS', '')
+    call check_params(c, 'TYPE|ELSET|MATERIAL|GAUSS|DILATATION', '')
     call get_element_type(c, b, gauss)
+    call get_choice(c, 'DILATATION', 'FULL|MEAN', b%dilatation)
     call get_name(c, 'MATERIAL', .false., b%material)
     call get_name(c, 'ELSET', .false., b%elset)
     if (get_ints(c, 'GAUSS', 1, '2 or 3 points per direction', g)) then
@@ -266,6 +267,7 @@ contains
       nb%elset = b%elset
       nb%material = b%material
       nb%gauss = b%gauss
+      nb%dilatation = b%dilatation
       nb%ids = b%ids(1:nel)
       nb%conn = b%conn(:, 1:nel)
       nb%line = b%line(1:nel)

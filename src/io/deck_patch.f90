@@ -13,7 +13,7 @@ module ictus_io_deck_patch
   use ictus_io_deck_lexer, only: line_where
   use ictus_io_deck_types, only: deck_t, patch_in_t, patch_op_in_t, OP_ELEVATE, OP_REFINE
   use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
-      get_name, get_ints, no_data, stream_reals
+      get_name, get_ints, get_choice, no_data, stream_reals
   use ictus_io_deck_grow, only: grow_patches, grow_patch_ops
   implicit none
   private
@@ -21,8 +21,8 @@ module ictus_io_deck_patch
 
 contains
 
-  !> *PATCH, NAME=, MATERIAL=, DEGREE=p1,p2, SIZE=n1,n2: opens a patch for *KNOTS and
-  !! *CONTROL POINTS.
+  !> *PATCH, NAME=, MATERIAL=, DEGREE=p1,p2, SIZE=n1,n2 [, DILATATION=FULL|MEAN]: opens a
+  !! patch for *KNOTS and *CONTROL POINTS.
   subroutine read_patch(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -31,8 +31,9 @@ contains
     integer :: k
 
     rd%patch = -1
-    call check_params(c, 'NAME|MATERIAL|DEGREE|SIZE', '')
+    call check_params(c, 'NAME|MATERIAL|DEGREE|SIZE|DILATATION', '')
     call get_name(c, 'NAME', .true., p%name)
+    call get_choice(c, 'DILATATION', 'FULL|MEAN', p%dilatation)
     call get_name(c, 'MATERIAL', .true., p%material)
     if (get_ints(c, 'DEGREE', 2, 'p1,p2', p%degree, required=.true.)) then
       if (any(p%degree < 1)) call card_error(c, 'DEGREE='//str(p%degree(1))//','// &

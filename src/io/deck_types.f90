@@ -65,6 +65,8 @@ module ictus_io_deck_types
     !> Gauss points per direction for stiffness and consistent mass (2 or 3; 0 = default:
     !! 2 for Q4, 3 for Q8 and Q9).
     integer :: gauss = 0
+    !> DILATATION=: 0 AUTO (not given), 1 FULL, 2 MEAN (doc/theory.md §2.1).
+    integer :: dilatation = 0
     !> Element ids, (nel).
     integer, allocatable :: ids(:)
     !> Node ids, (nen, nel), in the order of the deck.
@@ -176,6 +178,8 @@ module ictus_io_deck_types
     real(dp), allocatable :: cp(:,:)
     logical :: has_knots(2) = .false.
     logical :: has_cp = .false.
+    !> DILATATION=: 0 AUTO (not given), 1 FULL, 2 MEAN (doc/theory.md §2.1).
+    integer :: dilatation = 0
     character(len=where_len) :: where = ''
   end type patch_in_t
 

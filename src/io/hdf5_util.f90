@@ -14,6 +14,7 @@ module ictus_io_hdf5_util
       h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, &
       h5tset_size_f, h5tclose_f, h5lexists_f, h5fopen_f, h5dread_f, h5aopen_f, h5aread_f, &
       h5adelete_f, h5aexists_f, h5eset_auto_f, h5aget_type_f, h5tget_size_f, h5ldelete_f, &
+      h5gn_members_f, h5gget_obj_info_idx_f, &
       H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_ACC_TRUNC_F, H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, &
       H5P_DATASET_CREATE_F, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, H5FD_MPIO_COLLECTIVE_F, &
       H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
@@ -27,7 +28,7 @@ module ictus_io_hdf5_util
       h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, h5u_create_ext, h5u_append, &
       h5u_exists, h5u_write_rows, h5u_open_file, h5u_read, h5u_read_attr_real, &
       h5u_read_attr_int, h5u_read_attr_string, h5u_truncate, h5u_delete, h5u_delete_attr, &
-      h5u_extent
+      h5u_extent, h5u_members
 
   !> Writes a whole dataset (data from rank 0).
   interface h5u_write
@@ -266,6 +267,26 @@ contains
     call h5ldelete_f(loc, name, err)
     call check(err, 'deleting '//name)
   end subroutine h5u_delete
+
+  !> The names of the members of the group `name` below `loc` (none if it does not exist);
+  !! names longer than `len(names)` are cut.
+  subroutine h5u_members(loc, name, names)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: name
+    character(len=*), allocatable, intent(out) :: names(:)
+    integer :: err, n, k, otype
+    if (.not. h5u_exists(loc, name)) then
+      allocate(names(0))
+      return
+    end if
+    call h5gn_members_f(loc, name, n, err)
+    call check(err, 'listing '//name)
+    allocate(names(n))
+    do k = 1, n
+      call h5gget_obj_info_idx_f(loc, name, k - 1, names(k), otype, err)
+      call check(err, 'listing '//name)
+    end do
+  end subroutine h5u_members
 
   !> Removes the attribute `name` of `loc` if it exists.
   subroutine h5u_delete_attr(loc, name)

@@ -20,7 +20,7 @@ module ictus_io_results
   use ictus_io_hdf5_util, only: hid_t, h5u_create_file, h5u_close_file, h5u_flush, h5u_group, &
       h5u_close_group, h5u_attr_string, h5u_attr_int, h5u_attr_real, h5u_write, &
       h5u_create_ext, h5u_append, h5u_write_rows, h5u_open_file, h5u_truncate, h5u_delete, &
-      h5u_delete_attr
+      h5u_delete_attr, h5u_members
   use ictus_io_xdmf, only: xdmf_write, xdmf_grid_t, xdmf_block_path
   implicit none
   private
@@ -323,18 +323,18 @@ contains
   !! after the checkpoint) and the `status` attribute are removed. `ok` is false when the file
   !! cannot be opened.
   subroutine results_reopen(r, path, model, dom, contact, n_history, field_steps, field_times, &
-      drop_steps, ok)
+      ok)
     type(results_t), intent(out) :: r
     character(len=*), intent(in) :: path
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     type(contact_t), intent(in) :: contact
-    integer, intent(in) :: n_history, field_steps(:), drop_steps(:)
+    integer, intent(in) :: n_history, field_steps(:)
     real(dp), intent(in) :: field_times(:)
     logical, intent(out) :: ok
     integer(hid_t) :: g
     integer :: k, j
-    character(len=8) :: name
+    character(len=16), allocatable :: names(:)
     character(len=*), parameter :: energies(5) = [character(len=13) :: 'kinetic', 'strain', &
         'contact', 'external_work', 'total']
     character(len=*), parameter :: cnames(5) = [character(len=15) :: 'force_first', &
@@ -367,11 +367,13 @@ contains
       end do
       call h5u_close_group(g)
     end do
-    do j = 1, size(drop_steps)
-      write(name, '(i8.8)') drop_steps(j)
-      call h5u_delete(r%file, 'fields/'//name)
+    ! the snapshots the interrupted run wrote after its checkpoint go (they come again)
+    call h5u_members(r%file, 'fields', names)
+    do j = 1, size(names)
+      if (any(field_steps == step_of(names(j)))) cycle
+      call h5u_delete(r%file, 'fields/'//trim(names(j)))
       do k = 1, r%npairs
-        call h5u_delete(r%file, 'contact/'//trim(r%pair_name(k))//'/'//name)
+        call h5u_delete(r%file, 'contact/'//trim(r%pair_name(k))//'/'//trim(names(j)))
       end do
     end do
     call h5u_delete_attr(r%file, 'status')
@@ -381,6 +383,14 @@ contains
     r%n_written = n_history
     call h5u_flush(r%file)
   end subroutine results_reopen
+
+  !> The step of a snapshot group's name (its 8 digits; -1 if it is not a number).
+  integer function step_of(name)
+    character(len=*), intent(in) :: name
+    integer :: ios
+    read(name, *, iostat=ios) step_of
+    if (ios /= 0) step_of = -1
+  end function step_of
 
   !> The results path and the XDMF path next to it.
   subroutine set_paths(r, path)

@@ -61,6 +61,7 @@ contains
     this%nhist = J2_HIST
     this%hist_dissipation = J2_WP
     this%hist_peeq = J2_EPBAR
+    this%isochoric = .true.
     this%linear = .false.
     call elastic_dmat(this%e, this%nu, .true., this%d2(:, :, 1))
     call elastic_dmat(this%e, this%nu, .false., this%d2(:, :, 2))

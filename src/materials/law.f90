@@ -43,6 +43,10 @@ module ictus_materials_law
     integer :: hist_dissipation = 0
     !> Which history variable is the equivalent plastic strain (0: none), for the output.
     integer :: hist_peeq = 0
+    !> Whether the law's deformations are (nearly) isochoric, so that fully integrated
+    !! elements lock: plastic flow, or a bulk modulus of at least 50 shear moduli (nu >= 0.49).
+    !! Elements of such a law share their mean dilatation by default (doc/theory.md §2.1).
+    logical :: isochoric = .false.
     !> The small-strain tangent at the reference state in 2D Voigt order (xx, yy, xy;
     !! engineering shear): (:, :, 1) plane strain, (:, :, 2) plane stress; set by every law's
     !! `init`. It gives the stiffness of the stable-step estimate at the start, and, for a

@@ -31,6 +31,7 @@ contains
     this%name = 'linear elastic'
     this%nhist = 0
     this%linear = .true.
+    this%isochoric = this%nu >= 0.49_dp
     call elastic_dmat(this%e, this%nu, .true., this%d2(:, :, 1))
     call elastic_dmat(this%e, this%nu, .false., this%d2(:, :, 2))
   end subroutine le_init

@@ -33,6 +33,7 @@ contains
     this%nhist = 0
     this%linear = .false.
     call small_strain_constants(this, e, nu)
+    this%isochoric = 2.0_dp/this%d1 >= 50.0_dp*2.0_dp*this%c10
     call elastic_dmat(e, nu, .true., this%d2(:, :, 1))
     call elastic_dmat(e, nu, .false., this%d2(:, :, 2))
   end subroutine nh_init

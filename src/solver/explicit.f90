@@ -37,14 +37,22 @@ module ictus_solver_explicit
       force_hist_shape, force_dissipation
   implicit none
   private
-  public :: state_t, state_init, step_predict, step_finish, state_energies, between_steps, &
+  public :: state_t, state_init, step_predict, step_finish, state_energies, between_steps_t, &
       add_damping_work
 
+  !> Work between the predictor and the displacement update of a step inside a sweep (the
+  !! contact correction), on s%u = u_n, s%v = v_pre and s%u_next = u_pre: whoever runs the
+  !! sweeps extends this type with what the work needs.
+  type, abstract :: between_steps_t
+  contains
+    procedure(between_run_i), deferred :: run
+  end type between_steps_t
+
   abstract interface
-    !> Work between the predictor and the displacement update of a step inside a sweep (the
-    !! contact correction), on s%u = u_n, s%v = v_pre and s%u_next = u_pre.
-    subroutine between_steps()
-    end subroutine between_steps
+    subroutine between_run_i(this)
+      import :: between_steps_t
+      class(between_steps_t), intent(inout) :: this
+    end subroutine between_run_i
   end interface
 
   type :: state_t

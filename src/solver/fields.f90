@@ -28,6 +28,14 @@ module ictus_solver_fields
 
 contains
 
+  !> Whether element e shares its mean dilatation (false where the model does not say).
+  pure logical function mean_dilatation(model, e)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: e
+    mean_dilatation = .false.
+    if (allocated(model%mean_dil)) mean_dilatation = model%mean_dil(e)
+  end function mean_dilatation
+
   !> The fields at the displacements u (local: owned and ghosts) with the quadrature-point
   !! history hist(nhist, ngp, local elements) of the state (empty: no history).
   subroutine element_fields(model, dom, u, hist, ef)
@@ -59,7 +67,8 @@ contains
           allocate(h0(law%nhist, shp%ngp), source=0.0_dp)
         end if
         call element_routine(TASK_STRESS, model%etype(e), shp, model%x0(:, model%conn(1:nen, e)), &
-            model%materials(model%mat(e)), out, u(:, dom%conn(1:nen, k)), h0)
+            model%materials(model%mat(e)), out, u(:, dom%conn(1:nen, k)), h0, &
+            mean=mean_dilatation(model, e))
         ip = law%hist_peeq
       end associate
       s4 = 0.0_dp

@@ -48,6 +48,8 @@ module ictus_solver_model
     integer, allocatable :: mass_kind(:)
     real(dp), allocatable :: mass_alpha(:)
     integer, allocatable :: hrz_rule(:)
+    !> Elements that share their mean dilatation (B-bar / F-bar, doc/theory.md §2.1).
+    logical, allocatable :: mean_dil(:)
     !> Mass-proportional damping coefficient per element.
     real(dp), allocatable :: damping(:)
 

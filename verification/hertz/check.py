@@ -6,7 +6,7 @@ passes, doc/theory.md §5.1), against the quasi-static Hertz model of hertz_theo
 
 Gates (justified in doc/verification.md §5):
 * the committed decks are what hertz_cases.py / scripts/mesh/hertz.py produce;
-* hertz_theory reproduces doc/reference.md §2.3 (P_max, t_c for C = 1 and 1.7);
+* hertz_theory reproduces doc/reference.md §2.1 (P_max, t_c for C = 1 and 1.7);
 * peak force F_max/F_qs(C = 1) in [0.94, 1.05] and contact duration t_c/t_c,qs in
   [0.95, 1.01] (the C = 1 .. 1.7 model band is F 1 .. 1.16, t_c 1 .. 0.89; the converged
   fine-mesh runs give 0.97 and 0.98, waves shorten the contact);
@@ -39,9 +39,9 @@ def main():
                          (1.0, 1.0, 201.25, 0.8521)):
         q = ht.Impact(v, c)
         chk.close(q.p_max, pm, 1e-4,
-                  f"quasi-static P_max (V_w = {v}, C = {c}), doc/reference.md §2.3")
+                  f"quasi-static P_max (V_w = {v}, C = {c}), doc/reference.md §2.1")
         chk.close(q.t_c, tc, 1.5e-4,
-                  f"quasi-static t_c (V_w = {v}, C = {c}), doc/reference.md §2.3")
+                  f"quasi-static t_c (V_w = {v}, C = {c}), doc/reference.md §2.1")
     res = {}
     for name in CASES:
         case = hertz_cases.find(name)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Measures an ictus run of the dynamic Hertz benchmark against the quasi-static Hertz model
-(hertz_theory.py, doc/reference.md §2.3, §2.4) and writes the comparison table.
+(hertz_theory.py, doc/reference.md §2.1, §2.4) and writes the comparison table.
 
     hertz_compare.py RESULTS_DIR [--cases name ...] [--table verification/hertz/results_table.md]
 
@@ -153,7 +153,7 @@ def table_rows(results):
 
 
 def reference_block(v_rels):
-    out = ["Quasi-static Hertz reference (doc/reference.md §2.3; per half model = full/2):\n\n",
+    out = ["Quasi-static Hertz reference (doc/reference.md §2.1; per half model = full/2):\n\n",
            "| V_rel | F_qs (C = 1) | F (C = 1.7) | t_c,qs (C = 1) | t_c (C = 1.7) | p0 at F_qs "
            "| b at F_qs |\n|---|---|---|---|---|---|---|\n"]
     for v in v_rels:

@@ -2,7 +2,7 @@
 """Analytic side of the dynamic Hertz benchmark (doc/reference.md §2).
 
 Static Hertz line contact of two parallel cylinders (§2.1) and the quasi-static impact model of
-§2.3: one disc of mass m = rho pi R^2 (per unit thickness) hitting a rigid wall at V_w, with the
+§2.1: one disc of mass m = rho pi R^2 (per unit thickness) hitting a rigid wall at V_w, with the
 2D force-approach law
 
     delta(P) = P/(pi E') (ln(kappa/P) - C),   kappa = 4 pi E' R,   E' = E/(1 - nu^2) (plane strain)
@@ -11,7 +11,7 @@ Static Hertz line contact of two parallel cylinders (§2.1) and the quasi-static
 V_rel are the same problem with V_w = V_rel/2 (§1.3). Forces P here are per unit thickness of the
 FULL cylinder; the half model of the benchmark carries P/2 (and half the mass).
 
-    python3 verification/hertz/hertz_theory.py      # unit check against the numbers of §2.1, §2.3
+    python3 verification/hertz/hertz_theory.py      # unit check against the numbers of §2.1, §2.1
 
 Only numpy is needed (Gauss-Legendre quadrature and RK4 are coded here).
 """
@@ -55,7 +55,7 @@ def pressure(x, p_full, radius=R, e=E, nu=NU, plane_stress=False):
 
 # --------------------------------------------------------------------------- quasi-static impact
 class Impact:
-    """Quasi-static impact of one disc (radius, rho, E') on a rigid wall at speed v (§2.3)."""
+    """Quasi-static impact of one disc (radius, rho, E') on a rigid wall at speed v (§2.1)."""
 
     def __init__(self, v, c=1.0, radius=R, e=E, nu=NU, rho=RHO, plane_stress=False):
         self.v, self.c, self.radius = float(v), float(c), radius
@@ -136,7 +136,7 @@ class Impact:
         return out
 
     def _duration(self):
-        """t_c = 2 int_0^{P_max} (d delta/dP)/sqrt(V^2 - 2W(P)/m) dP (step 3 of §2.3)."""
+        """t_c = 2 int_0^{P_max} (d delta/dP)/sqrt(V^2 - 2W(P)/m) dP (step 3 of §2.1)."""
         return 2.0 * float(self.time_of_force(np.array([np.pi / 2]))[0])
 
     def history(self, n=400):
@@ -209,7 +209,7 @@ def _selftest():
         check(float(peak_pressure(p)), p0, 2e-4 if p == 450 else 1e-4, f"p0(P = {p})")
         xs = np.linspace(-1.0, 1.0, 200001) * half_width(p)
         check(float(np.trapz(pressure(xs, p), xs)), p, 1e-6, f"int p dx (P = {p})")
-    print("quasi-static impact (doc/reference.md §2.3, plane strain, full disc on a wall):")
+    print("quasi-static impact (doc/reference.md §2.1, plane strain, full disc on a wall):")
     qs = Impact(2.0)
     check(qs.kappa, 52359.9, 1e-6, "kappa")
     check(qs.m, 50.265, 1e-4, "m")
@@ -222,7 +222,7 @@ def _selftest():
         q = Impact(v, 1.0, plane_stress=True)
         check(q.p_max, pm, 1e-4, f"P_max plane stress (V_w = {v})")
         check(q.t_c, tc, 1.5e-4, f"t_c plane stress (V_w = {v})")
-    print("force history, C = 1, V_w = 2: quadrature and RK4 against the §2.3 table")
+    print("force history, C = 1, V_w = 2: quadrature and RK4 against the §2.1 table")
     t_ode, p_ode, _ = qs.history_ode(dt=2e-4)
     check(t_ode[-1], qs.t_c, 2e-4, "contact end of the ODE = quadrature t_c")
     check(float(np.max(p_ode)), qs.p_max, 2e-4, "peak of the ODE history = P_max")

@@ -57,20 +57,9 @@ def q8_deck(nlgeom):
 def nurbs_deck(nlgeom, spans=8):
     """One quadratic patch on the square: uniform knots, control points at the Greville
     abscissae (an affine map), ids 1..n^2 in patch order."""
-    knots = [0.0, 0.0] + [k / spans for k in range(spans + 1)] + [1.0, 1.0]
-    n = spans + 2
-    grev = [(knots[i + 1] + knots[i + 2]) / 2 for i in range(n)]
-    cps, pts = [], []
-    for j in range(n):
-        for i in range(n):
-            x, y = grev[i] - 0.5, grev[j] - 0.5
-            cps.append(f"{x!r}, {y!r}, 1")
-            pts.append((len(pts) + 1, x, y))
-    kn = " ".join(repr(k) for k in knots)
-    return ("*HEADING\nspinning NURBS square\n" + MATERIAL
-            + f"*PATCH, NAME=BODY, MATERIAL=MAT, DEGREE=2,2, SIZE={n},{n}\n"
-            + f"*KNOTS, DIRECTION=1\n{kn}\n*KNOTS, DIRECTION=2\n{kn}\n*CONTROL POINTS\n"
-            + "\n".join(cps) + "\n" + spin_velocities(pts) + step(nlgeom))
+    cards, pts = vcheck.square_patch("BODY", spans, offset=-0.5)
+    return ("*HEADING\nspinning NURBS square\n" + MATERIAL + cards
+            + spin_velocities(pts) + step(nlgeom))
 
 
 def crush_deck():

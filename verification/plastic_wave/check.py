@@ -142,26 +142,16 @@ def main():
     chk.finish()
 
 
-def same_bits(a, b):
-    """Whether every dataset under /history and /fields of two results files is equal."""
-    import h5py
-    fa, fb = h5py.File(a, "r"), h5py.File(b, "r")
-    names = []
-    for g in ("history", "fields"):
-        fa[g].visititems(lambda n, o: names.append(g + "/" + n) if hasattr(o, "shape") else None)
-    return len(names) > 0 and all(n in fb and np.array_equal(fa[n][()], fb[n][()]) for n in names)
-
-
 def check_bits(args, chk, path, out):
     for np_ in (2, 3):
         o = out.replace(".h5", f"_np{np_}.h5")
         vcheck.run_ictus(args, path, o, np=np_)
-        chk.true(same_bits(out, o), f"{np_} ranks: every history and field dataset bit-identical")
+        chk.true(vcheck.same_bits(out, o), f"{np_} ranks: every history and field dataset bit-identical")
     # continue the 1-rank run from its last checkpoint on 2 ranks
     o = out.replace(".h5", "_restart.h5")
     shutil.copy(out, o)
     vcheck.run_ictus(args, path, o, np=2, extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run: bit-identical")
+    chk.true(vcheck.same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run: bit-identical")
 
 
 if __name__ == "__main__":

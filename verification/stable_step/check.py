@@ -14,8 +14,11 @@ displacement fields (one every 50 steps; the step is estimated every 10):
 - the step falls by a factor of about 1000 on the way, and the run stops with exit 2 when it
   falls below dt0/1000, naming the element, with the results so far readable;
 - with the step following the collapse the total energy stays at its start to 1e-4 while
-  dt > dt0/100 (a fixed dt0 would have inverted the elements long before).
+  dt > dt0/100 (a fixed dt0 would have inverted the elements long before);
+- the SVK run is bit-identical on 2 ranks, and continued on 2 ranks from a checkpoint of the
+  1-rank run (the step and the one before it travel in the checkpoint).
 """
+import shutil
 import os
 import re
 import sys
@@ -34,7 +37,7 @@ LAWS = {
 }
 
 
-def deck(law):
+def deck(law, restart=False):
     mesh = vcheck.rect_mesh(type="Q4", nx=4, ny=4, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5,
                             distort=0.15)
     ic = ["*INITIAL CONDITIONS, TYPE=VELOCITY"]
@@ -43,7 +46,8 @@ def deck(law):
     return (f"*HEADING\ncrushed square, {law}\n*MATERIAL, NAME=MAT\n{LAWS[law]}*DENSITY\n1.0\n"
             + mesh + "\n".join(ic) + "\n*MASS, TYPE=HRZ\n*STEP, NLGEOM=YES\n"
             f"*DYNAMIC, EXPLICIT\n{DT0}, 0.1\n*OUTPUT, HISTORY, EVERY=10\n"
-            "*OUTPUT, FIELD, EVERY=50\n*END STEP\n")
+            "*OUTPUT, FIELD, EVERY=50\n"
+            + ("*RESTART, WRITE, EVERY=1000\n" if restart else "") + "*END STEP\n")
 
 
 def cauchy(law, f):
@@ -123,7 +127,26 @@ def main():
         drift = abs(etot[keep] - etot[0]).max() / abs(etot[0])
         chk.below(drift, 1e-4, f"{law}: energy kept while dt > dt0/100 (t up to "
                   f"{t[keep].max():.5f} of 0.05)")
+    check_bits(args, chk)
     chk.finish()
+
+
+def check_bits(args, chk):
+    path = os.path.join(args.work, "crush_bits.inp")
+    with open(path, "w") as fh:
+        fh.write(deck("SVK", restart=True))
+    out = os.path.join(args.work, "crush_bits.h5")
+    vcheck.run_ictus(args, path, out, expect_status=2)
+    o = out.replace(".h5", "_np2.h5")
+    vcheck.run_ictus(args, path, o, np=2, expect_status=2)
+    chk.true(vcheck.same_bits(out, o), "SVK on 2 ranks: every history and field dataset "
+             "bit-identical")
+    o = out.replace(".h5", "_restart.h5")
+    shutil.copy(out, o)
+    vcheck.run_ictus(args, path, o, np=2, expect_status=2,
+                     extra=("--restart", out.replace(".h5", ".chk.h5")))
+    chk.true(vcheck.same_bits(out, o), "SVK continued on 2 ranks from a checkpoint of the 1-rank "
+             "run: bit-identical")
 
 
 if __name__ == "__main__":

@@ -34,6 +34,8 @@ module ictus_solver_force_element
     integer, allocatable :: etype(:), nen(:), ngp(:), mat(:), elem(:)
     integer, allocatable :: conn(:,:)
     logical, allocatable :: own(:)
+    !> Whether the element shares its mean dilatation (B-bar / F-bar).
+    logical, allocatable :: mean(:)
     !> Geometry per quadrature point: dnx(ndm, nen_max, ngp_max, nelem), dvol(ngp_max, nelem).
     real(dp), allocatable :: dnx(:,:,:,:), dvol(:,:)
     !> The materials (copied from the model).
@@ -78,6 +80,8 @@ contains
     el%dissipates = any([(model%materials(m)%law%hist_dissipation > 0, m = 1, model%nmat)])
     el%conn = dom%conn
     el%elem = dom%elem(1:dom%nelem)
+    allocate(el%mean(el%nelem), source=.false.)
+    if (allocated(model%mean_dil)) el%mean = model%mean_dil(el%elem)
     allocate(el%dnx(model%ndm, nen_max, ngp_max, el%nelem), el%dvol(ngp_max, el%nelem), &
         source=0.0_dp)
     allocate(el%ul(model%ndm, nen_max), el%fe(model%ndm, nen_max), el%hnew(el%nhist, ngp_max))
@@ -127,7 +131,7 @@ contains
       associate (law => el%materials(el%mat(k))%law)
         call element_force(el%etype(k), nen, ngp, el%dnx(:, 1:nen, 1:ngp, k), &
             el%dvol(1:ngp, k), el%ul(:, 1:nen), law, hist(:, 1:ngp, k), &
-            el%hnew(:, 1:ngp), el%fe(:, 1:nen), el%energy(k), ierr)
+            el%hnew(:, 1:ngp), el%fe(:, 1:nen), el%energy(k), ierr, el%mean(k))
       end associate
       if (ierr /= 0 .and. el%inverted == 0) el%inverted = el%elem(k)
       if (el%nhist > 0) hist(:, 1:ngp, k) = el%hnew(:, 1:ngp)

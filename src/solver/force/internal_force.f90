@@ -40,7 +40,8 @@ module ictus_solver_internal_force
 contains
 
   !> The implementation a model gets: the deck's choice, or for FORCE_AUTO the assembled K
-  !! where every material law is linear and the strain small.
+  !! where every material law is linear, the strain small and no element shares its mean
+  !! dilatation.
   integer function force_choice(model)
     type(model_t), intent(in) :: model
     integer :: m
@@ -48,6 +49,9 @@ contains
     if (force_choice /= FORCE_AUTO) return
     force_choice = FORCE_ASSEMBLED
     if (model%nlgeom) force_choice = FORCE_ELEMENT
+    if (allocated(model%mean_dil)) then
+      if (any(model%mean_dil)) force_choice = FORCE_ELEMENT
+    end if
     do m = 1, model%nmat
       if (.not. model%materials(m)%law%linear) force_choice = FORCE_ELEMENT
     end do

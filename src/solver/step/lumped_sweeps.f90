@@ -17,7 +17,7 @@ module ictus_solver_lumped_sweeps
   use ictus_solver_domain, only: domain_t
   use ictus_solver_sweep, only: sweep_t, sweep_plan, sweep_zone_stage, sweep_rows, sweep_move
   use ictus_solver_internal_force, only: force_op_t
-  use ictus_solver_explicit, only: state_t, step_predict, step_finish, between_steps, &
+  use ictus_solver_explicit, only: state_t, step_predict, step_finish, between_steps_t, &
       add_damping_work
   implicit none
   private
@@ -132,7 +132,7 @@ contains
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(in) :: mop
     type(domain_t), intent(inout) :: dom
-    procedure(between_steps) :: between
+    class(between_steps_t), intent(inout) :: between
     logical, intent(in), optional :: wide
     if (present(wide)) then
       if (wide) then
@@ -150,7 +150,7 @@ contains
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(in) :: mop
     type(domain_t), intent(inout) :: dom
-    procedure(between_steps) :: between
+    class(between_steps_t), intent(inout) :: between
     real(dp), allocatable :: swap(:,:)
     integer :: st
     do st = 1, sw%nstage
@@ -162,7 +162,7 @@ contains
             s%v, s%u_next)
       end if
       s%fused = .true.
-      call between()
+      call between%run()
       call halo_exchange(dom%halo, s%u_next)
       call move_alloc(s%u, swap)
       call move_alloc(s%u_next, s%u)
@@ -204,7 +204,7 @@ contains
     type(force_op_t), intent(inout) :: fop
     type(mass_op_t), intent(inout) :: mop
     type(domain_t), intent(inout) :: dom
-    procedure(between_steps) :: between
+    class(between_steps_t), intent(inout) :: between
     real(dp) :: t0, t
     integer :: mode, j, w, nk
     integer, parameter :: order(3) = [2, 1, 3]
@@ -223,7 +223,7 @@ contains
     if (mode == 2) then
       do j = 1, ls%plan%nstage
         call step_predict(s, fop, mop, dom, .false.)
-        call between()
+        call between%run()
         call step_finish(s, dom)
       end do
     else

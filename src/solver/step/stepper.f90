@@ -24,7 +24,8 @@ module ictus_solver_stepper
   use ictus_solver_mass_operator, only: mass_op_t
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
       force_kind_name, force_stable, FORCE_ASSEMBLED, FORCE_ELEMENT
-  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
+  use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
+      between_steps_t
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
   implicit none
@@ -70,6 +71,13 @@ module ictus_solver_stepper
     integer :: dt_step = -1
     real(dp) :: dt_logged = 0.0_dp
   end type stepper_t
+
+  !> The contact correction between the predictor and the update of a step inside a sweep.
+  type, extends(between_steps_t) :: contact_hook_t
+    type(stepper_t), pointer :: stp => null()
+  contains
+    procedure :: run => hook_run
+  end type contact_hook_t
 
 contains
 
@@ -158,19 +166,21 @@ contains
   !! otherwise. Stops early with stp%failure set on a run-time failure, and where the step
   !! follows the state, at the end time (`stepper_done`).
   subroutine stepper_advance(stp, n_to)
-    type(stepper_t), intent(inout) :: stp
+    type(stepper_t), target, intent(inout) :: stp
     integer, intent(in) :: n_to
+    type(contact_hook_t) :: hook
     logical :: tuning
+    hook%stp => stp
     if (stp%pending) then
       stp%pending = .false.
-      call contact_between()
+      call contact_between(stp)
       call step_finish(stp%s, stp%dom)
     end if
     do while (stp%s%step < n_to .and. len(stp%failure) == 0)
       if (stp%dt_control .and. stepper_done(stp)) exit
       if (stp%ls%on .and. stp%ls%kept .and. stp%s%step + stp%ls%plan%nstage <= n_to) then
         tuning = stp%ls%tuning
-        call sweeps_window(stp%ls, stp%s, stp%fop, stp%mop, stp%dom, contact_between)
+        call sweeps_window(stp%ls, stp%s, stp%fop, stp%mop, stp%dom, hook)
         if (tuning .and. .not. stp%ls%tuning) call log_tuning(stp%ls)
       else
         call refresh_dt(stp)
@@ -179,38 +189,43 @@ contains
         if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge'
         call check_inverted(stp)
         if (len(stp%failure) > 0) return
-        call contact_between()
+        call contact_between(stp)
         call step_finish(stp%s, stp%dom)
       end if
     end do
-
-  contains
-
-    !> The contact correction of the current step, its failure count and the log line of a
-    !! pair that becomes active (between the predictor and the displacement update).
-    subroutine contact_between()
-      integer :: kp
-      real(dp) :: r
-      character(len=256) :: where
-      if (stp%contact%npairs == 0) return
-      call contact_correct(stp%cs, stp%contact, stp%s, stp%mop, stp%dom, stp%model%x0)
-      if (stp%cs%ierr /= 0) stp%failure = 'the consistent-mass solve of the contact '// &
-          'correction did not converge'
-      stp%failures = stp%failures + contact_failures(stp%contact)
-      do kp = 1, stp%contact%npairs
-        if (stp%contact%pairs(kp)%active_points > 0 .and. .not. stp%was_active(kp)) then
-          stp%was_active(kp) = .true.
-          call contact_ratio(stp%cs, stp%contact, stp%model%x0, stp%s%u, stp%ops%m_pos, &
-              stp%s%dt, r, where)
-          call log_info('contact '//trim(stp%contact%pairs(kp)%name)//' becomes active at '// &
-              't = '//str(stp%s%t + stp%s%dt)//'; stability ratio r = '//str(r, 4)//' ('// &
-              trim(where)//')')
-          if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
-              ' exceeds 1/2 at '//trim(where))
-        end if
-      end do
-    end subroutine contact_between
   end subroutine stepper_advance
+
+  !> The contact correction of the current step, its failure count and the log line of a
+  !! pair that becomes active (between the predictor and the displacement update).
+  subroutine contact_between(stp)
+    type(stepper_t), intent(inout) :: stp
+    integer :: kp
+    real(dp) :: r
+    character(len=256) :: at
+    if (stp%contact%npairs == 0) return
+    call contact_correct(stp%cs, stp%contact, stp%s, stp%mop, stp%dom, stp%model%x0)
+    if (stp%cs%ierr /= 0) stp%failure = 'the consistent-mass solve of the contact '// &
+        'correction did not converge'
+    stp%failures = stp%failures + contact_failures(stp%contact)
+    do kp = 1, stp%contact%npairs
+      if (stp%contact%pairs(kp)%active_points > 0 .and. .not. stp%was_active(kp)) then
+        stp%was_active(kp) = .true.
+        call contact_ratio(stp%cs, stp%contact, stp%model%x0, stp%s%u, stp%ops%m_pos, &
+            stp%s%dt, r, at)
+        call log_info('contact '//trim(stp%contact%pairs(kp)%name)//' becomes active at '// &
+            't = '//str(stp%s%t + stp%s%dt)//'; stability ratio r = '//str(r, 4)//' ('// &
+            trim(at)//')')
+        if (r > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r, 4)// &
+            ' exceeds 1/2 at '//trim(at))
+      end if
+    end do
+  end subroutine contact_between
+
+  !> The contact correction of a step inside a sweep.
+  subroutine hook_run(this)
+    class(contact_hook_t), intent(inout) :: this
+    call contact_between(this%stp)
+  end subroutine hook_run
 
   !> Whether the state has reached the end time (the last step ends at or just after it).
   pure logical function stepper_done(stp)

@@ -7,6 +7,10 @@
 !!   sigma = (2 C10/J) dev(bbar) + (2/D1)(J - 1) I (neo-Hookean), written out here; J2 on its
 !!   elastic branch and after yield against its point routine (closed forms of J2 are in
 !!   test_laws; here the element must reproduce F exactly at every point).
+!! Both hold with the mean dilatation (F-bar) too: a rotation keeps J = 1 and a homogeneous F
+!! its own mean. With it, the force must still be the variation of the element's energy
+!! (doc/theory.md §2.1): f_a against central differences of the energy in u_a, for SVK, the
+!! neo-Hookean and linear elasticity in small strain (B-bar), on a non-homogeneous field.
 program test_finite_strain
   use ictus_core_kinds, only: dp, pi
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, elem_shape_t, &
@@ -24,7 +28,8 @@ program test_finite_strain
   character(len=12), parameter :: names(3) = [character(len=12) :: 'SVK', 'neo-Hookean', 'J2']
   type(kinematics_t), parameter :: finite = kinematics_t(ANALYSIS_PLANE_STRAIN, .true.)
   real(dp), parameter :: e_mod = 1000.0_dp, nu = 0.3_dp, c10 = 25.0_dp, d1 = 0.02_dp
-  integer :: k, et
+  integer :: k, et, im
+  logical :: mean_on = .false.
   call t%start("elements/finite_strain")
   call material_make_law('LINEAR ELASTIC', [e_mod, nu], finite, mats(1)%law)
   call material_make_law('NEO HOOKE', [c10, d1], finite, mats(2)%law)
@@ -32,10 +37,18 @@ program test_finite_strain
   call material_make_law('LINEAR ELASTIC', [e_mod, nu], kinematics_t(), lin%law)
   mats%density = 1.0_dp
   lin%density = 1.0_dp
-  do et = ETYPE_Q4, ETYPE_IGA
-    do k = 1, 3
-      call case_element(t, et, k)
+  do im = 1, 2
+    mean_on = im == 2
+    do et = ETYPE_Q4, ETYPE_IGA
+      do k = 1, 3
+        call case_element(t, et, k)
+      end do
     end do
+  end do
+  do et = ETYPE_Q4, ETYPE_IGA
+    call case_variation(t, et, mats(1), 'SVK')
+    call case_variation(t, et, mats(2), 'neo-Hookean')
+    call case_variation(t, et, lin, 'small-strain elastic (B-bar)')
   end do
   call t%finish()
 
@@ -82,6 +95,7 @@ contains
     integer :: a, j
     character(len=:), allocatable :: tag
     tag = trim(etype_name(et))//', '//trim(names(k))
+    if (mean_on) tag = tag//', mean dilatation'
     call element_of(et, xl, shp)
     allocate(ul(2, shp%nen), h0(mats(k)%law%nhist, shp%ngp), h1(mats(k)%law%nhist, shp%ngp))
     h0 = 0.0_dp
@@ -93,7 +107,7 @@ contains
       do a = 1, shp%nen
         ul(:, a) = matmul(r, xl(:, a)) - xl(:, a)
       end do
-      call element_routine(TASK_FORCE, et, shp, xl, mats(k), out, ul, h0, h1)
+      call element_routine(TASK_FORCE, et, shp, xl, mats(k), out, ul, h0, h1, mean_on)
       worst = max(worst, maxval(abs(out%p)))
     end do
     call t%close_abs(worst, 0.0_dp, 1.0e-12_dp*scale, tag//': f_int of a rigid rotation = 0')
@@ -124,7 +138,7 @@ contains
     do a = 1, shp%nen
       ul(:, a) = matmul(f, xl(:, a)) - xl(:, a)
     end do
-    call element_routine(TASK_STRESS, et, shp, xl, mats(k), out, ul, h0)
+    call element_routine(TASK_STRESS, et, shp, xl, mats(k), out, ul, h0, mean=mean_on)
     call closed_form(k, f, sig_want)
     err = 0.0_dp
     do g = 1, shp%ngp
@@ -132,6 +146,52 @@ contains
     end do
     call t%close_abs(err, 0.0_dp, 1.0e-10_dp*maxval(abs(sig_want)), label)
   end subroutine case_homogeneous
+
+  !> With the mean dilatation, f_a = dE/du_a: the force of a non-homogeneous field against
+  !! central differences of the element's energy (step 1e-6, error O(1e-12) relative).
+  subroutine case_variation(t, et, mat, name)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: et
+    type(material_t), intent(in) :: mat
+    character(len=*), intent(in) :: name
+    type(elem_shape_t) :: shp
+    type(element_out_t) :: out
+    real(dp), allocatable :: xl(:,:), ul(:,:), up(:,:), h0(:,:), h1(:,:)
+    real(dp) :: ep, em, err, h
+    integer :: a, i
+    call element_of(et, xl, shp)
+    allocate(ul(2, shp%nen), h0(0, shp%ngp), h1(0, shp%ngp))
+    do a = 1, shp%nen
+      ul(:, a) = 0.08_dp*[sin(3.0_dp*xl(1, a) + xl(2, a)), cos(2.0_dp*xl(2, a) - xl(1, a))]
+    end do
+    call element_routine(TASK_FORCE, et, shp, xl, mat, out, ul, h0, h1, .true.)
+    h = 1.0e-6_dp
+    err = 0.0_dp
+    do a = 1, shp%nen
+      do i = 1, 2
+        up = ul
+        up(i, a) = ul(i, a) + h
+        ep = energy_of(et, shp, xl, mat, up)
+        up(i, a) = ul(i, a) - h
+        em = energy_of(et, shp, xl, mat, up)
+        err = max(err, abs(out%p(i, a) - (ep - em)/(2.0_dp*h)))
+      end do
+    end do
+    call t%close_abs(err, 0.0_dp, 1.0e-6_dp*maxval(abs(out%p)), trim(etype_name(et))//', '// &
+        name//', mean dilatation: f_a = dE/du_a (central differences)')
+  end subroutine case_variation
+
+  !> The energy of the mean-dilatation element at displacements u.
+  real(dp) function energy_of(et, shp, xl, mat, u)
+    integer, intent(in) :: et
+    type(elem_shape_t), intent(in) :: shp
+    real(dp), intent(in) :: xl(:,:), u(:,:)
+    type(material_t), intent(in) :: mat
+    type(element_out_t) :: o
+    real(dp) :: h0(0, shp%ngp), h1(0, shp%ngp)
+    call element_routine(TASK_FORCE, et, shp, xl, mat, o, u, h0, h1, .true.)
+    energy_of = o%scalar
+  end function energy_of
 
   !> The Cauchy stress of law k at the plane-strain F (2 x 2 in-plane part, F_33 = 1).
   subroutine closed_form(k, f2, sig)
