@@ -13,8 +13,8 @@ module ictus_io_deck_step
   use ictus_io_deck_types, only: deck_t, out_set_in_t
   use ictus_solver_model, only: NVAR, VAR_NAMES, VAR_U, VAR_V, VAR_RF
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_param, &
-      get_name, has_param, has_flag, get_choice, get_ints, get_reals, no_data, one_line, line_reals, &
-      count_ok, tok_real
+      get_name, has_param, has_flag, get_choice, get_ints, get_reals, no_data, one_line, &
+      line_reals, count_ok, tok_real
   implicit none
   private
   public :: read_step, read_dynamic, read_output, read_restart, read_end_step
