@@ -55,7 +55,7 @@ module ictus_app_time_loop
     !> When history records and field snapshots are due.
     type(schedule_t) :: history, field
     !> The node sets with a history: this rank's nodes of each, their values at a record
-    !! (2, slot, set: mean displacement, mean velocity, summed reaction) and a work column.
+    !! (ndm, slot, set: mean displacement, mean velocity, summed reaction) and a work column.
     type(set_nodes_t), allocatable :: sets(:)
     real(dp), allocatable :: set_vals(:,:,:), set_work(:)
     !> The acceleration at a snapshot (nd, owned nodes).
@@ -156,7 +156,7 @@ contains
     type(domain_t), intent(in) :: dom
     integer :: k, nmax
     allocate(lp%sets(model%nout_sets))
-    allocate(lp%set_vals(2, 3, model%nout_sets), source=0.0_dp)
+    allocate(lp%set_vals(model%ndm, 3, model%nout_sets), source=0.0_dp)
     nmax = 0
     do k = 1, model%nout_sets
       associate (nodes => model%out_sets(k)%nodes)

@@ -66,7 +66,7 @@ module ictus_io_results
     character(len=64), allocatable :: pair_name(:)
     real(dp), allocatable :: cbuf(:,:,:)
     !> Node sets with a history (lower-case names), their variables (VAR_U, VAR_V, VAR_RF of
-    !! model%out_sets) and their buffered records (2, slot, set, record): slot 1 the mean
+    !! model%out_sets) and their buffered records (ndm, slot, set, record): slot 1 the mean
     !! displacement, 2 the mean velocity, 3 the summed reaction.
     integer :: nsets = 0
     character(len=64), allocatable :: set_name(:)
@@ -162,8 +162,8 @@ contains
     integer(hid_t) :: g
     integer :: k, j
     r%nsets = model%nout_sets
-    allocate(r%set_name(r%nsets), r%set_vars(NVAR, r%nsets), r%sbuf(2, 3, r%nsets, buffer_size))
-    r%sbuf = 0.0_dp
+    allocate(r%set_name(r%nsets), r%set_vars(NVAR, r%nsets))
+    allocate(r%sbuf(model%ndm, 3, r%nsets, buffer_size), source=0.0_dp)
     do k = 1, r%nsets
       r%set_name(k) = trim(model%out_sets(k)%name)
       r%set_vars(:, k) = model%out_sets(k)%vars
@@ -174,20 +174,20 @@ contains
     do k = 1, r%nsets
       call h5u_group(r%file, 'history/nset/'//trim(r%set_name(k)), g)
       do j = 1, 3
-        if (r%set_vars(SET_VARS(j), k)) call h5u_create_ext(g, trim(SET_DATASETS(j)), 2, &
-            buffer_size)
+        if (r%set_vars(SET_VARS(j), k)) call h5u_create_ext(g, trim(SET_DATASETS(j)), &
+            model%ndm, buffer_size)
       end do
       call h5u_close_group(g)
     end do
   end subroutine open_sets
 
-  !> Stores the node-set values of the history record being added next: vals(2, slot, set)
+  !> Stores the node-set values of the history record being added next: vals(ndm, slot, set)
   !! with slot 1 the mean displacement, 2 the mean velocity, 3 the summed reaction (call it
   !! right before results_history).
   subroutine results_sets(r, vals)
     type(results_t), intent(inout) :: r
     real(dp), intent(in) :: vals(:,:,:)
-    if (r%nsets > 0) r%sbuf(:, :, :, r%nbuf + 1) = vals(1:2, 1:3, 1:r%nsets)
+    if (r%nsets > 0) r%sbuf(:, :, :, r%nbuf + 1) = vals(:, 1:3, 1:r%nsets)
   end subroutine results_sets
 
   !> Whether a material law of the model dissipates energy (then /history/energy has
@@ -496,6 +496,7 @@ contains
     type(results_t), intent(inout) :: r
     integer(hid_t) :: g
     integer :: n, k, j
+    real(dp), allocatable :: sv(:,:)
     n = r%nbuf
     if (n == 0) return
     call h5u_group(r%file, 'history', g)
@@ -542,8 +543,8 @@ contains
       call h5u_group(r%file, 'history/nset/'//trim(r%set_name(k)), g)
       do j = 1, 3
         if (.not. r%set_vars(SET_VARS(j), k)) cycle
-        r%col2(:, 1:n) = r%sbuf(:, j, k, 1:n)
-        call h5u_append(g, trim(SET_DATASETS(j)), r%col2(:, 1:n))
+        sv = r%sbuf(:, j, k, 1:n)
+        call h5u_append(g, trim(SET_DATASETS(j)), sv)
       end do
       call h5u_close_group(g)
     end do
