@@ -8,7 +8,7 @@ module ictus_app_build_model
   use ictus_core_kinds, only: dp, i8
   use ictus_core_memory, only: available_memory
   use ictus_core_errors, only: input_error, warning
-  use ictus_core_strings, only: str, upper
+  use ictus_core_strings, only: str, upper, lower
   use ictus_geometry_sides, only: SIDE_NONE
   use ictus_geometry_patch, only: patch_elevate, patch_refine, patch_build_elements, &
       patch_side_points
@@ -19,7 +19,7 @@ module ictus_app_build_model
   use ictus_materials_material, only: material_make_law, material_t
   use ictus_solver_model, only: model_t, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
       MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
-      MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
+      MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, VAR_PEEQ
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
@@ -99,10 +99,9 @@ contains
       model%mass_passes = deck%step%mass_passes
       if (deck%step%energy_warning > 0.0_dp) model%energy_warning = deck%step%energy_warning
       model%sweep_steps = deck%step%sweep_steps
-      model%history_every = deck%step%history_every
-      model%field_every = deck%step%field_every
       model%viz_samples = deck%step%field_samples
       model%restart_every = deck%step%restart_every
+      call build_output(deck, model)
     end if
     if (model%nel == 0) call input_error(deck%path, &
         'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')
@@ -452,6 +451,40 @@ contains
     if (.not. found) call input_error(where, 'element set '//trim(name)//' is not defined '// &
         '(expected an *ELSET, an ELSET= of *ELEMENT, or a patch name)')
   end subroutine resolve_elem_set
+
+  !> The output settings of the step: history and field schedules, the field variables (by
+  !! default U, V, S, MISES, and PEEQ where a law has plastic history) and the node sets with
+  !! a history of their own.
+  subroutine build_output(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    logical, allocatable :: mask(:)
+    integer :: k, i
+    model%history_every = deck%step%history_every
+    model%history_interval = deck%step%history_interval
+    model%field_every = deck%step%field_every
+    model%field_interval = deck%step%field_interval
+    if (deck%step%field_vars_given) then
+      model%field_vars = deck%step%field_vars
+    else
+      model%field_vars(VAR_PEEQ) = any([(model%materials(k)%law%hist_peeq > 0, &
+          k = 1, model%nmat)])
+    end if
+    model%nout_sets = deck%step%n_out_sets
+    allocate(model%out_sets(model%nout_sets))
+    allocate(mask(model%nn))
+    do k = 1, model%nout_sets
+      associate (o => deck%step%out_sets(k), m => model%out_sets(k))
+        mask = .false.
+        call resolve_node_set(deck, model, o%name, o%where, mask, 0)
+        if (.not. any(mask)) call warning(o%where, '*OUTPUT, HISTORY: set '//trim(o%name)// &
+            ' holds no nodes (its means are written as 0)')
+        m%name = lower(trim(o%name))
+        m%nodes = pack([(i, i = 1, model%nn)], mask)
+        m%vars = o%vars
+      end associate
+    end do
+  end subroutine build_output
 
   !> Nodes of node set `name` (an NSET, an element set's nodes, a patch's control points, or a
   !! node id written as a number) into `mask` (nn).

@@ -14,13 +14,14 @@ module ictus_app_time_loop
   use ictus_core_timer, only: wall_time
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max
-  use ictus_solver_model, only: model_t
+  use ictus_parallel_repro, only: repro_sum
+  use ictus_solver_model, only: model_t, VAR_U, VAR_V, VAR_RF
   use ictus_solver_assemble, only: operators_t
   use ictus_solver_domain, only: domain_t
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_report
   use ictus_solver_explicit, only: state_t
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
-      stepper_advance, stepper_done
+      stepper_advance, stepper_done, stepper_estimate
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
   use ictus_solver_fields, only: element_fields_t, element_fields
@@ -30,19 +31,39 @@ module ictus_app_time_loop
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
-      results_records, results_element_fields
+      results_records, results_element_fields, results_sets, results_want_stress
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_options, only: run_options_t, EXIT_RUNTIME, EXIT_WALL_TIME
+  use ictus_app_schedule, only: schedule_t, schedule_init, schedule_due, schedule_next, &
+      schedule_due_at
   implicit none
   private
   public :: time_loop, steps_for
 
-  !> What the loop keeps besides the stepper: the results file, paths, output intervals, the
+  !> This rank's owned nodes of a node set with a history (local indices), and the number of
+  !! nodes of the whole set.
+  type :: set_nodes_t
+    integer, allocatable :: idx(:)
+    integer :: nglobal = 0
+  end type set_nodes_t
+
+  !> What the loop keeps besides the stepper: the results file, paths, output schedules, the
   !! energy at the start and the clocks.
   type :: loop_t
     type(results_t) :: res
     character(len=:), allocatable :: out, ckpt, deck_text, deck_path
-    integer :: nsteps = 0, history_every = 1, field_every = 1, print_every = 1
+    integer :: nsteps = 0, print_every = 1
+    !> When history records and field snapshots are due.
+    type(schedule_t) :: history, field
+    !> Whether a TIME INTERVAL is followed by time (the step follows the state): then the
+    !! loop looks at every step.
+    logical :: time_based = .false.
+    !> The node sets with a history: this rank's nodes of each, their values at a record
+    !! (ndm, slot, set: mean displacement, mean velocity, summed reaction) and a work column.
+    type(set_nodes_t), allocatable :: sets(:)
+    real(dp), allocatable :: set_vals(:,:,:), set_work(:)
+    !> The acceleration at a snapshot (nd, owned nodes).
+    real(dp), allocatable :: acc(:,:)
     integer :: restart_every = 0
     real(dp) :: wall_limit = 0.0_dp
     real(dp) :: e0 = 0.0_dp, t0 = 0.0_dp, t_last_print = 0.0_dp
@@ -83,6 +104,8 @@ contains
     call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, model%t_end, ierr)
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
+    call set_nodes(lp, model, dom)
+    lp%time_based = stp%dt_control .and. (lp%history%every == 0 .or. lp%field%every == 0)
     call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
     lp%n_start = n
     call stepper_plan(stp)
@@ -90,7 +113,9 @@ contains
     lp%t0 = wall_time()
     lp%t_last_print = lp%t0
     do
-      if (output_due(lp, n)) then
+      call stepper_estimate(stp)
+      call check_failure(lp, stp)
+      if (output_due(lp, stp, n)) then
         call stepper_record(stp)
         call check_failure(lp, stp)
         call write_outputs(lp, stp, n)
@@ -122,13 +147,36 @@ contains
     lp%ckpt = checkpoint_path(lp%out)
     lp%deck_text = deck_echo(deck, .true.)
     lp%nsteps = steps_for(model%t_end, dt)
-    lp%history_every = model%history_every
-    lp%field_every = model%field_every
-    if (lp%field_every <= 0) lp%field_every = max(1, lp%nsteps/20)
+    lp%history = schedule_init(model%history_every, model%history_interval, dt, lp%nsteps)
+    if (model%field_every > 0) then
+      lp%field = schedule_init(model%field_every, model%field_interval, dt, lp%nsteps)
+    else
+      lp%field = schedule_init(max(1, lp%nsteps/20), model%field_interval, dt, lp%nsteps)
+    end if
     lp%print_every = max(1, lp%nsteps/10)
     lp%restart_every = model%restart_every
     lp%wall_limit = opt%wall_time
   end subroutine loop_setup
+
+  !> This rank's owned nodes of each node set with a history.
+  subroutine set_nodes(lp, model, dom)
+    type(loop_t), intent(inout) :: lp
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer :: k, nmax
+    allocate(lp%sets(model%nout_sets))
+    allocate(lp%set_vals(model%ndm, 3, model%nout_sets), source=0.0_dp)
+    nmax = 0
+    do k = 1, model%nout_sets
+      associate (nodes => model%out_sets(k)%nodes)
+        lp%sets(k)%nglobal = size(nodes)
+        lp%sets(k)%idx = pack(dom%g2l(nodes), dom%g2l(nodes) >= 1 .and. &
+            dom%g2l(nodes) <= dom%nowned)
+        nmax = max(nmax, size(lp%sets(k)%idx))
+      end associate
+    end do
+    allocate(lp%set_work(nmax))
+  end subroutine set_nodes
 
   !> Opens the results file, or for a restart reads the checkpoint into the stepper and cuts
   !! the results file back to it; n: the step the loop starts at.
@@ -191,25 +239,43 @@ contains
     else
       lp%nsteps = stp%s%step + steps_for(stp%t_end - stp%s%t, stp%s%dt)
     end if
+    lp%history%nlast = lp%nsteps
+    lp%field%nlast = lp%nsteps
   end subroutine steps_left
 
   !> Whether a history record or a field snapshot is due at step n.
-  logical function output_due(lp, n)
+  logical function output_due(lp, stp, n)
     type(loop_t), intent(in) :: lp
+    type(stepper_t), intent(in) :: stp
     integer, intent(in) :: n
-    output_due = mod(n, lp%history_every) == 0 .or. mod(n, lp%field_every) == 0 .or. &
-        n == lp%nsteps
+    output_due = due(lp, stp, lp%history, n) .or. due(lp, stp, lp%field, n)
   end function output_due
+
+  !> Whether the output of schedule sc is due at step n: by step number; where the step
+  !! follows the state, a TIME INTERVAL by time, between the steps before and after t_n.
+  logical function due(lp, stp, sc, n)
+    type(loop_t), intent(in) :: lp
+    type(stepper_t), intent(in) :: stp
+    type(schedule_t), intent(in) :: sc
+    integer, intent(in) :: n
+    if (stp%dt_control .and. sc%every == 0) then
+      due = schedule_due_at(sc, stp%s%t, stp%s%dt_prev, stp%s%dt, n == lp%nsteps)
+    else
+      due = schedule_due(sc, n)
+    end if
+  end function due
 
   !> The next step after n at which anything is due: an output, a checkpoint, a wall-time
   !! check (every 10 steps when a limit is set), a progress line, or the last step.
   integer function next_event(lp, n) result(m)
     type(loop_t), intent(in) :: lp
     integer, intent(in) :: n
-    m = min(lp%nsteps, next_multiple(n, lp%history_every), next_multiple(n, lp%field_every), &
+    m = min(lp%nsteps, schedule_next(lp%history, n), schedule_next(lp%field, n), &
         next_multiple(n, lp%print_every))
     if (lp%restart_every > 0) m = min(m, next_multiple(n, lp%restart_every))
     if (lp%wall_limit > 0.0_dp) m = min(m, next_multiple(n, 10))
+    ! a TIME INTERVAL while the step follows the state: every step is looked at
+    if (lp%time_based) m = n + 1
   end function next_event
 
   !> The smallest multiple of k above n.
@@ -226,26 +292,83 @@ contains
     integer, intent(in) :: n
     type(history_record_t) :: rec
     associate (s => stp%s, model => stp%model, dom => stp%dom)
-      if (mod(n, lp%history_every) == 0 .or. n == lp%nsteps) then
+      if (due(lp, stp, lp%history, n)) then
         rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext, &
             s%e_plastic)
         call results_contact(lp%res, stp%contact)
+        if (model%nout_sets > 0) then
+          call set_values(lp, stp)
+          call results_sets(lp%res, lp%set_vals)
+        end if
         call results_history(lp%res, rec)
         if (n == 0) lp%e0 = total_energy(s)
         call check_blowup(lp, stp)
         call check_balance(lp, stp)
       end if
-      if (mod(n, lp%field_every) == 0 .or. n == lp%nsteps) then
+      if (due(lp, stp, lp%field, n)) then
         ! the viewing samples of NURBS elements read ghost velocities too
         if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
-        call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, &
+        call acceleration(lp, stp)
+        call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, lp%acc, &
             dom%halo%gid(1:dom%nowned), stp%contact)
-        call element_fields(model, dom, s%u, s%hist, lp%ef)
-        call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), model%nel)
+        if (results_want_stress(lp%res)) then
+          call element_fields(model, dom, s%u, s%hist, lp%ef)
+          call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), &
+              model%nel)
+        end if
         if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
       end if
     end associate
   end subroutine write_outputs
+
+  !> The acceleration at t_n of the owned nodes, (v_{n+1/2} - v_{n-1/2})/dt with the
+  !! half-step velocities of the field output: a_n = M^-1(-f_int(u_n)) less the damping
+  !! term alpha v_n (0 at fixed dofs).
+  subroutine acceleration(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    integer :: i, nn
+    nn = stp%s%nn
+    if (.not. allocated(lp%acc)) allocate(lp%acc(size(stp%s%a, 1), nn))
+    associate (s => stp%s)
+      do i = 1, nn
+        lp%acc(:, i) = (s%a(:, i) - s%alpha(i)*s%v_mid(:, i))*stp%mop%free(:, i)
+      end do
+    end associate
+  end subroutine acceleration
+
+  !> The values of the node sets at a history record (t_n): the mean displacement and mean
+  !! velocity v_n over each set's nodes and the sum of their reactions, reproducible sums
+  !! over the owned nodes (the same bits on any number of ranks).
+  subroutine set_values(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    integer :: k, d
+    associate (s => stp%s)
+      do k = 1, size(lp%sets)
+        associate (o => stp%model%out_sets(k))
+          do d = 1, size(s%u, 1)
+            if (o%vars(VAR_U)) lp%set_vals(d, 1, k) = set_sum(lp, k, s%u(d, :))/ &
+                real(max(1, lp%sets(k)%nglobal), dp)
+            if (o%vars(VAR_V)) lp%set_vals(d, 2, k) = set_sum(lp, k, s%v_mid(d, :))/ &
+                real(max(1, lp%sets(k)%nglobal), dp)
+            if (o%vars(VAR_RF)) lp%set_vals(d, 3, k) = set_sum(lp, k, s%rf(d, :))
+          end do
+        end associate
+      end do
+    end associate
+  end subroutine set_values
+
+  !> The sum of x over the nodes of set k (collective; x local).
+  real(dp) function set_sum(lp, k, x)
+    type(loop_t), intent(inout) :: lp
+    integer, intent(in) :: k
+    real(dp), intent(in) :: x(:)
+    integer :: m
+    m = size(lp%sets(k)%idx)
+    lp%set_work(1:m) = x(lp%sets(k)%idx)
+    set_sum = repro_sum(m, lp%set_work, max(1, lp%sets(k)%nglobal))
+  end function set_sum
 
   !> The energy-ratio warning (as LS-DYNA's glstat): once, when the balance error
   !! |E_total - E_0| exceeds ENERGY WARNING (default 1 %) of the largest energy so far.

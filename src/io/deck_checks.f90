@@ -7,7 +7,8 @@
 !!   never below the current degree (earlier *ELEVATE of the same patch included);
 !! * names used but never defined: set references, *BOUNDARY / *INITIAL CONDITIONS targets,
 !!   *SURFACE element sets, PATCH= and ELSET= of *NSET, *SURFACE, *MASS and *DAMPING, the
-!!   surfaces of *CONTACT PAIR and *RIGID WALL; set reference cycles.
+!!   surfaces of *CONTACT PAIR and *RIGID WALL, the node sets of *OUTPUT, HISTORY, NSET=; set
+!!   reference cycles.
 !! Every ELSET name (of *ELSET or of *ELEMENT, ELSET=) and every patch name is also a node set.
 module ictus_io_deck_checks
   use ictus_core_kinds, only: str_len
@@ -418,6 +419,10 @@ contains
     do k = 1, d%n_walls
       call need(t, d%walls(k)%surface, NAME_SURFACE, 'surface', d%walls(k)%where, &
           '*RIGID WALL')
+    end do
+    do k = 1, d%step%n_out_sets
+      call need(t, d%step%out_sets(k)%name, NAME_NSET, 'node set', d%step%out_sets(k)%where, &
+          '*OUTPUT, HISTORY, NSET=')
     end do
   end subroutine check_uses
 

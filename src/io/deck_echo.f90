@@ -14,6 +14,7 @@ module ictus_io_deck_echo
       etype_name, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
       OP_ELEVATE, CONTACT_NODE_TO_SEGMENT
+  use ictus_solver_model, only: NVAR, VAR_NAMES
   implicit none
   private
   public :: deck_echo, real_text
@@ -329,7 +330,8 @@ contains
   subroutine echo_step(d, t)
     type(deck_t), intent(in) :: d
     type(text_t), intent(inout) :: t
-    character(len=:), allocatable :: sweep, samples
+    character(len=:), allocatable :: sweep, samples, sched
+    integer :: k
     if (.not. d%has_step) return
     sweep = ', SWEEP STEPS=AUTO'
     if (d%step%sweep_steps > 0) sweep = ', SWEEP STEPS='//str(d%step%sweep_steps)
@@ -357,10 +359,23 @@ contains
           ', MASS SOLVER='//trim(d%step%mass_solver)//sweep)
     end select
     call put(t, real_text(d%step%dt)//', '//real_text(d%step%t_end))
-    call put(t, '*OUTPUT, HISTORY, EVERY='//str(d%step%history_every))
+    ! TIME INTERVAL=, VARIABLES= and the node-set histories only when given: the processed
+    ! text of a deck without them stays as it was
+    call put(t, '*OUTPUT, HISTORY'//schedule(d%step%history_every, d%step%history_interval))
+    do k = 1, d%step%n_out_sets
+      associate (o => d%step%out_sets(k))
+        sched = ''
+        if (o%every > 0 .or. o%interval > 0.0_dp) sched = schedule(o%every, o%interval)
+        call put(t, '*OUTPUT, HISTORY, NSET='//trim(o%name)//sched// &
+            variables(o%vars, o%vars_given))
+      end associate
+    end do
     samples = ''
     if (d%step%field_samples > 0) samples = ', SAMPLES='//str(d%step%field_samples)
-    if (d%step%field_every == 0) then
+    samples = samples//variables(d%step%field_vars, d%step%field_vars_given)
+    if (d%step%field_interval > 0.0_dp) then
+      call put(t, '*OUTPUT, FIELD'//schedule(0, d%step%field_interval)//samples)
+    else if (d%step%field_every == 0) then
       call put(t, '*OUTPUT, FIELD, EVERY=0'//samples//'     ** 0 = default: 20 snapshots '// &
           'over the run')
     else
@@ -373,6 +388,31 @@ contains
     end if
     call put(t, '*END STEP')
   end subroutine echo_step
+
+  !> ", TIME INTERVAL=x" when interval > 0, else ", EVERY=n".
+  function schedule(every, interval) result(r)
+    integer, intent(in) :: every
+    real(dp), intent(in) :: interval
+    character(len=:), allocatable :: r
+    if (interval > 0.0_dp) then
+      r = ', TIME INTERVAL='//real_text(interval)
+    else
+      r = ', EVERY='//str(every)
+    end if
+  end function schedule
+
+  !> ", VARIABLES=U,V,..." in the order of VAR_NAMES when given, else ''.
+  function variables(vars, given) result(r)
+    logical, intent(in) :: vars(NVAR), given
+    character(len=:), allocatable :: r
+    integer :: j
+    r = ''
+    if (.not. given) return
+    do j = 1, NVAR
+      if (vars(j)) r = r//','//trim(VAR_NAMES(j))
+    end do
+    r = ', VARIABLES='//r(2:)
+  end function variables
 
   ! ------------------------------------------------------------------------------------------
 

@@ -10,13 +10,14 @@ module ictus_io_deck_types
       SIDE_ALL, side_name
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
   use ictus_elements_library, only: etype_name, etype_nen
+  use ictus_solver_model, only: NVAR
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
       HRZ_FULL, HRZ_GAUSS2
   implicit none
   private
   public :: deck_t, material_in_t, element_block_in_t, set_in_t, surface_in_t, &
       boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
-      step_in_t, section_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
+      step_in_t, out_set_in_t, section_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
       ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
       ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
       SET_NODE, SET_ELEMENT, &
@@ -192,6 +193,19 @@ module ictus_io_deck_types
     character(len=where_len) :: where = ''
   end type patch_op_in_t
 
+  !> *OUTPUT, HISTORY, NSET=: a node set with a history of its own.
+  type :: out_set_in_t
+    character(len=str_len) :: name = ''
+    !> VARIABLES= (VAR_* of ictus_solver_model) and whether it was given (default U, V, RF).
+    logical :: vars(NVAR) = .false.
+    logical :: vars_given = .false.
+    !> EVERY= and TIME INTERVAL= when given (0 otherwise): they must agree with the history
+    !! card without NSET.
+    integer :: every = 0
+    real(dp) :: interval = 0.0_dp
+    character(len=where_len) :: where = ''
+  end type out_set_in_t
+
   !> *STEP ... *END STEP.
   type :: step_in_t
     !> Time step; 0 = automatic (safety * 2/omega_max).
@@ -216,10 +230,22 @@ module ictus_io_deck_types
     !> Lumped-mass steps per sweep over the stiffness (SWEEP STEPS=); 0 = AUTO (6 steps,
     !! kept where the run measures them faster than single steps).
     integer :: sweep_steps = 0
-    !> History output every n steps (default 1).
+    !> History output every n steps (default 1), or at the steps closest to the multiples of
+    !! history_interval > 0 (TIME INTERVAL=; 0: not given).
     integer :: history_every = 1
-    !> Field output every n steps (0 = default: 20 snapshots over the run).
+    real(dp) :: history_interval = 0.0_dp
+    !> "file:line" of *OUTPUT, HISTORY without NSET ('' when the deck has none).
+    character(len=where_len) :: history_where = ''
+    !> Node sets with a history of their own (*OUTPUT, HISTORY, NSET=).
+    integer :: n_out_sets = 0
+    type(out_set_in_t), allocatable :: out_sets(:)
+    !> Field output every n steps (0 = default: 20 snapshots over the run), or at the steps
+    !! closest to the multiples of field_interval > 0 (TIME INTERVAL=; 0: not given).
     integer :: field_every = 0
+    real(dp) :: field_interval = 0.0_dp
+    !> VARIABLES= of *OUTPUT, FIELD (VAR_* of ictus_solver_model) and whether it was given.
+    logical :: field_vars(NVAR) = .false.
+    logical :: field_vars_given = .false.
     !> Viewing samples per direction of NURBS elements (SAMPLES=; 0 = 2 p_max + 1 per patch).
     integer :: field_samples = 0
     !> "file:line" of *OUTPUT, FIELD ('' when the deck has none).

@@ -11,7 +11,8 @@ module ictus_io_results
   use ictus_elements_types, only: ETYPE_IGA
   use ictus_elements_library, only: etype_name, etype_nen, element_type_count
   use ictus_contact_contact, only: contact_t
-  use ictus_solver_model, only: model_t
+  use ictus_solver_model, only: model_t, NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
+      VAR_PEEQ, VAR_RF
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   use ictus_solver_domain, only: domain_t
   use ictus_solver_fields, only: element_fields_t
@@ -26,10 +27,15 @@ module ictus_io_results
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
       history_record_t, results_contact, results_reopen, results_flush, results_records, &
-      results_element_fields
+      results_element_fields, results_sets, results_want_stress
 
   !> Records kept in memory before they are appended to the file.
   integer, parameter :: buffer_size = 512
+
+  !> The datasets of a node-set history and the variables that ask for them.
+  integer, parameter :: SET_VARS(3) = [VAR_U, VAR_V, VAR_RF]
+  character(len=*), parameter :: SET_DATASETS(3) = [character(len=12) :: 'displacement', &
+      'velocity', 'reaction']
 
   !> One history record.
   type :: history_record_t
@@ -59,6 +65,15 @@ module ictus_io_results
     integer :: npairs = 0
     character(len=64), allocatable :: pair_name(:)
     real(dp), allocatable :: cbuf(:,:,:)
+    !> Node sets with a history (lower-case names), their variables (VAR_U, VAR_V, VAR_RF of
+    !! model%out_sets) and their buffered records (ndm, slot, set, record): slot 1 the mean
+    !! displacement, 2 the mean velocity, 3 the summed reaction.
+    integer :: nsets = 0
+    character(len=64), allocatable :: set_name(:)
+    logical, allocatable :: set_vars(:,:)
+    real(dp), allocatable :: sbuf(:,:,:,:)
+    !> The variables of the field snapshots (model%field_vars).
+    logical :: vars(NVAR) = .true.
     real(dp) :: col2(2, buffer_size)
     integer :: icol(buffer_size)
     !> Field snapshots written so far: step numbers and times.
@@ -97,6 +112,7 @@ contains
     call set_paths(r, path)
     r%nn = model%nn
     r%plastic = dissipates(model)
+    r%vars = model%field_vars
     allocate(r%field_step(0), r%field_time(0))
     call h5u_create_file(path, r%file)
     call h5u_attr_string(r%file, 'program', 'ictus')
@@ -116,6 +132,7 @@ contains
     call write_model(r, model, m_diag, gid)
     call write_partition(r, dom)
     call setup_views(r, model, dom)
+    call grid_fields(r)
     call write_viz(r, model)
     call h5u_group(r%file, 'history', g)
     call h5u_create_ext(g, 'time', 0, buffer_size)
@@ -132,8 +149,46 @@ contains
     call h5u_group(r%file, 'fields', g)
     call h5u_close_group(g)
     call open_contact(r, contact)
+    call open_sets(r, model, .true.)
     call h5u_flush(r%file)
   end subroutine results_open
+
+  !> The node sets with a history of their own, and with `create` their datasets
+  !! /history/nset/<name>/{displacement,velocity,reaction} (those asked for).
+  subroutine open_sets(r, model, create)
+    type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
+    logical, intent(in) :: create
+    integer(hid_t) :: g
+    integer :: k, j
+    r%nsets = model%nout_sets
+    allocate(r%set_name(r%nsets), r%set_vars(NVAR, r%nsets))
+    allocate(r%sbuf(model%ndm, 3, r%nsets, buffer_size), source=0.0_dp)
+    do k = 1, r%nsets
+      r%set_name(k) = trim(model%out_sets(k)%name)
+      r%set_vars(:, k) = model%out_sets(k)%vars
+    end do
+    if (r%nsets == 0 .or. .not. create) return
+    call h5u_group(r%file, 'history/nset', g)
+    call h5u_close_group(g)
+    do k = 1, r%nsets
+      call h5u_group(r%file, 'history/nset/'//trim(r%set_name(k)), g)
+      do j = 1, 3
+        if (r%set_vars(SET_VARS(j), k)) call h5u_create_ext(g, trim(SET_DATASETS(j)), &
+            model%ndm, buffer_size)
+      end do
+      call h5u_close_group(g)
+    end do
+  end subroutine open_sets
+
+  !> Stores the node-set values of the history record being added next: vals(ndm, slot, set)
+  !! with slot 1 the mean displacement, 2 the mean velocity, 3 the summed reaction (call it
+  !! right before results_history).
+  subroutine results_sets(r, vals)
+    type(results_t), intent(inout) :: r
+    real(dp), intent(in) :: vals(:,:,:)
+    if (r%nsets > 0) r%sbuf(:, :, :, r%nbuf + 1) = vals(:, 1:3, 1:r%nsets)
+  end subroutine results_sets
 
   !> Whether a material law of the model dissipates energy (then /history/energy has
   !! plastic_work).
@@ -318,9 +373,19 @@ contains
     r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns, .false.)]
   end subroutine setup_views
 
+  !> What the snapshots hold for the XDMF sidecar (the attributes of absent datasets are
+  !! left out).
+  subroutine grid_fields(r)
+    type(results_t), intent(inout) :: r
+    r%grids(:)%displacement = r%vars(VAR_U)
+    r%grids(:)%velocity = r%vars(VAR_V)
+    r%grids(:)%mises = r%vars(VAR_MISES)
+    r%grids(:)%peeq = r%vars(VAR_PEEQ)
+  end subroutine grid_fields
+
   !> Reopens the results file of an interrupted run to continue it from a checkpoint: history
-  !! datasets are cut back to `n_history` records, snapshots at the steps `drop_steps` (those
-  !! after the checkpoint) and the `status` attribute are removed. `ok` is false when the file
+  !! datasets are cut back to `n_history` records, the snapshots that are not among
+  !! `field_steps` (those after the checkpoint) and the `status` attribute are removed. `ok` is false when the file
   !! cannot be opened.
   subroutine results_reopen(r, path, model, dom, contact, n_history, field_steps, field_times, &
       ok)
@@ -342,9 +407,11 @@ contains
     call set_paths(r, path)
     r%nn = model%nn
     r%plastic = dissipates(model)
+    r%vars = model%field_vars
     call h5u_open_file(path, .true., r%file, ok)
     if (.not. ok) return
     call setup_views(r, model, dom)
+    call grid_fields(r)
     r%npairs = contact%npairs
     allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
     do k = 1, r%npairs
@@ -364,6 +431,14 @@ contains
       call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
       do j = 1, size(cnames)
         call h5u_truncate(g, trim(cnames(j)), n_history)
+      end do
+      call h5u_close_group(g)
+    end do
+    call open_sets(r, model, .false.)
+    do k = 1, r%nsets
+      call h5u_group(r%file, 'history/nset/'//trim(r%set_name(k)), g)
+      do j = 1, 3
+        if (r%set_vars(SET_VARS(j), k)) call h5u_truncate(g, trim(SET_DATASETS(j)), n_history)
       end do
       call h5u_close_group(g)
     end do
@@ -430,7 +505,8 @@ contains
   subroutine flush_history(r)
     type(results_t), intent(inout) :: r
     integer(hid_t) :: g
-    integer :: n, k
+    integer :: n, k, j
+    real(dp), allocatable :: sv(:,:)
     n = r%nbuf
     if (n == 0) return
     call h5u_group(r%file, 'history', g)
@@ -473,20 +549,30 @@ contains
       call h5u_append(g, 'active_points', r%icol(1:n))
       call h5u_close_group(g)
     end do
+    do k = 1, r%nsets
+      call h5u_group(r%file, 'history/nset/'//trim(r%set_name(k)), g)
+      do j = 1, 3
+        if (.not. r%set_vars(SET_VARS(j), k)) cycle
+        sv = r%sbuf(:, j, k, 1:n)
+        call h5u_append(g, trim(SET_DATASETS(j)), sv)
+      end do
+      call h5u_close_group(g)
+    end do
     r%n_written = r%n_written + n
     r%nbuf = 0
     call h5u_flush(r%file)
   end subroutine flush_history
 
-  !> Writes a field snapshot /fields/<step>/ and refreshes the XDMF sidecar. u and v hold
-  !! the values of this rank's owned nodes `gid`.
-  subroutine results_field(r, model, dom, step, time, u, v, gid, contact)
+  !> Writes a field snapshot /fields/<step>/ (the variables r%vars asks for) and refreshes the
+  !! XDMF sidecar. u, v and a hold the values of this rank's owned nodes `gid` (u and v local
+  !! with ghosts where the model has patches).
+  subroutine results_field(r, model, dom, step, time, u, v, a, gid, contact)
     type(results_t), intent(inout) :: r
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer, intent(in) :: step
     real(dp), intent(in) :: time
-    real(dp), intent(in) :: u(:,:), v(:,:)
+    real(dp), intent(in) :: u(:,:), v(:,:), a(:,:)
     integer, intent(in) :: gid(:)
     type(contact_t), intent(in) :: contact
     integer(hid_t) :: g
@@ -496,23 +582,9 @@ contains
     call h5u_group(r%file, 'fields/'//name, g)
     call h5u_attr_real(g, 'time', time)
     call h5u_attr_int(g, 'step', step)
-    call h5u_write_rows(g, 'displacement', u(:, 1:size(gid)), gid, r%nn)
-    call h5u_write_rows(g, 'velocity', v(:, 1:size(gid)), gid, r%nn)
-    if (r%viz%ns > 0) then
-      call iga_viz_eval(r%viz, model, r%viz_elems, u, r%viz_u, dom%g2l)
-      call iga_viz_eval(r%viz, model, r%viz_elems, v, r%viz_v, dom%g2l)
-      call h5u_write_rows(g, 'viz_displacement', r%viz_u, r%viz_mine, r%viz%ns)
-      call h5u_write_rows(g, 'viz_velocity', r%viz_v, r%viz_mine, r%viz%ns)
-    end if
-    ! the same vectors with z = 0, for the XDMF sidecar
-    if (any(r%grids%etype /= ETYPE_IGA)) then
-      call write_3d(g, 'displacement_3d', u(:, 1:size(gid)), gid, r%nn)
-      call write_3d(g, 'velocity_3d', v(:, 1:size(gid)), gid, r%nn)
-    end if
-    if (r%viz%ns > 0) then
-      call write_3d(g, 'viz_displacement_3d', r%viz_u, r%viz_mine, r%viz%ns)
-      call write_3d(g, 'viz_velocity_3d', r%viz_v, r%viz_mine, r%viz%ns)
-    end if
+    if (r%vars(VAR_U)) call node_vector(r, model, dom, g, 'displacement', u, gid, r%viz_u)
+    if (r%vars(VAR_V)) call node_vector(r, model, dom, g, 'velocity', v, gid, r%viz_v)
+    if (r%vars(VAR_A)) call h5u_write_rows(g, 'acceleration', a(:, 1:size(gid)), gid, r%nn)
     call h5u_close_group(g)
     ! contact points of each pair's first surface (the same on every rank)
     do k = 1, r%npairs
@@ -539,9 +611,38 @@ contains
     end if
   end subroutine results_field
 
-  !> The element fields of step `step` (ictus_solver_fields): per element /fields/<step>/stress
-  !! and strain (ne, 4: xx, yy, xy, zz), mises and peeq (ne); at the nodes nodal_stress (n, 4)
-  !! and nodal_mises (n). gid: the global indices of the owned nodes.
+  !> A node vector of a snapshot: `name` (n, 2) from x (owned nodes `gid` first), its values
+  !! at the viewing samples of the patches (viz_<name>, evaluated into `xv`) and the copies
+  !! with z = 0 for the XDMF sidecar (<name>_3d, viz_<name>_3d).
+  subroutine node_vector(r, model, dom, g, name, x, gid, xv)
+    type(results_t), intent(inout) :: r
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    integer(hid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: x(:,:)
+    integer, intent(in) :: gid(:)
+    real(dp), intent(inout) :: xv(:,:)
+    call h5u_write_rows(g, name, x(:, 1:size(gid)), gid, r%nn)
+    if (r%viz%ns > 0) then
+      call iga_viz_eval(r%viz, model, r%viz_elems, x, xv, dom%g2l)
+      call h5u_write_rows(g, 'viz_'//name, xv, r%viz_mine, r%viz%ns)
+    end if
+    if (any(r%grids%etype /= ETYPE_IGA)) call write_3d(g, name//'_3d', x(:, 1:size(gid)), &
+        gid, r%nn)
+    if (r%viz%ns > 0) call write_3d(g, 'viz_'//name//'_3d', xv, r%viz_mine, r%viz%ns)
+  end subroutine node_vector
+
+  !> Whether a snapshot needs the element fields (a variable of ictus_solver_fields is asked).
+  logical function results_want_stress(r)
+    type(results_t), intent(in) :: r
+    results_want_stress = any(r%vars([VAR_S, VAR_E, VAR_MISES, VAR_PEEQ]))
+  end function results_want_stress
+
+  !> The element fields of step `step` (ictus_solver_fields) that r%vars asks for: per
+  !! element /fields/<step>/stress and strain (ne, 4: xx, yy, xy, zz), mises and peeq (ne); at
+  !! the nodes nodal_stress (n, 4) with stress and nodal_mises (n) with mises. gid: the global
+  !! indices of the owned nodes.
   subroutine results_element_fields(r, step, ef, gid, nel)
     type(results_t), intent(inout) :: r
     integer, intent(in) :: step, nel
@@ -551,12 +652,12 @@ contains
     character(len=8) :: name
     write(name, '(i8.8)') step
     call h5u_group(r%file, 'fields/'//name, g)
-    call h5u_write_rows(g, 'stress', ef%stress, ef%elem, nel)
-    call h5u_write_rows(g, 'strain', ef%strain, ef%elem, nel)
-    call h5u_write_rows(g, 'mises', ef%mises, ef%elem, nel)
-    call h5u_write_rows(g, 'peeq', ef%peeq, ef%elem, nel)
-    call h5u_write_rows(g, 'nodal_stress', ef%nodal_stress, gid, r%nn)
-    call h5u_write_rows(g, 'nodal_mises', ef%nodal_mises, gid, r%nn)
+    if (r%vars(VAR_S)) call h5u_write_rows(g, 'stress', ef%stress, ef%elem, nel)
+    if (r%vars(VAR_E)) call h5u_write_rows(g, 'strain', ef%strain, ef%elem, nel)
+    if (r%vars(VAR_MISES)) call h5u_write_rows(g, 'mises', ef%mises, ef%elem, nel)
+    if (r%vars(VAR_PEEQ)) call h5u_write_rows(g, 'peeq', ef%peeq, ef%elem, nel)
+    if (r%vars(VAR_S)) call h5u_write_rows(g, 'nodal_stress', ef%nodal_stress, gid, r%nn)
+    if (r%vars(VAR_MISES)) call h5u_write_rows(g, 'nodal_mises', ef%nodal_mises, gid, r%nn)
     call h5u_close_group(g)
   end subroutine results_element_fields
 

@@ -32,6 +32,12 @@ module ictus_io_xdmf
     !> Whether the block holds every element of the model in the model's order (then the
     !! per-element fields are its cell fields).
     logical :: whole = .false.
+    !> Which fields the snapshots hold (*OUTPUT, FIELD, VARIABLES=): the attributes of the
+    !! others are left out.
+    logical :: displacement = .true.
+    logical :: velocity = .true.
+    logical :: mises = .true.
+    logical :: peeq = .true.
   end type xdmf_grid_t
 
 contains
@@ -101,20 +107,18 @@ contains
     write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
         'Dimensions="', g%npoints, ' 2">'//h5//geom//'</DataItem>'
     write(u, '(a)') '     </Geometry>'
-    call attribute(u, 'displacement', prefix, h5, sname, g%npoints)
-    call attribute(u, 'velocity', prefix, h5, sname, g%npoints)
+    if (g%displacement) call attribute(u, 'displacement', prefix, h5, sname, g%npoints)
+    if (g%velocity) call attribute(u, 'velocity', prefix, h5, sname, g%npoints)
     ! the von Mises stress averaged at the nodes (finite-element blocks: the grid's points are
     ! the model's nodes)
-    if (g%etype /= ETYPE_IGA) then
+    if (g%etype /= ETYPE_IGA .and. g%mises) then
       write(u, '(a)') '     <Attribute Name="mises" AttributeType="Scalar" Center="Node">'
       write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
           'Dimensions="', g%npoints, '">'//h5//':/fields/'//sname//'/nodal_mises</DataItem>'
       write(u, '(a)') '     </Attribute>'
     end if
-    if (g%whole) then
-      call cell_scalar(u, 'element_mises', 'mises', h5, sname, g%nel)
-      call cell_scalar(u, 'peeq', 'peeq', h5, sname, g%nel)
-    end if
+    if (g%whole .and. g%mises) call cell_scalar(u, 'element_mises', 'mises', h5, sname, g%nel)
+    if (g%whole .and. g%peeq) call cell_scalar(u, 'peeq', 'peeq', h5, sname, g%nel)
     write(u, '(a)') '    </Grid>'
   end subroutine grid
 

@@ -96,6 +96,8 @@ module ictus_solver_explicit
     !> History variables of the material laws at the quadrature points of this rank's
     !! elements, (nhist, ngp, elements) (empty when no law has history).
     real(dp), allocatable :: hist(:,:,:)
+    !> Reaction forces at the constrained dofs (nd, nlocal), 0 elsewhere.
+    real(dp), allocatable :: rf(:,:)
   end type state_t
 
 contains
@@ -127,6 +129,7 @@ contains
     call alloc_stream(s%mv, nd, nl, 0.0_dp)
     call alloc_stream(s%a, nd, nl, 0.0_dp)
     call alloc_stream(s%u_next, nd, nl, 0.0_dp)
+    allocate(s%rf(nd, nl), source=0.0_dp)
     s%u = u0
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)

@@ -15,7 +15,8 @@ module ictus_solver_model
   private
   public :: model_t, model_free, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
-      MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO
+      MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, output_set_t, VAR_U, VAR_V, VAR_A, VAR_S, &
+      VAR_E, VAR_MISES, VAR_PEEQ, VAR_RF, NVAR, VAR_NAMES
 
   !> Solvers of a consistent mass (*DYNAMIC, EXPLICIT, MASS SOLVER=): a conjugate gradient to
   !! a tolerance, the Cholesky factor (exact), a fixed number of row-sum-preconditioned
@@ -29,6 +30,23 @@ module ictus_solver_model
   !! assembled K where every law has a constant tangent), ASSEMBLED, or ELEMENT (a loop over
   !! the material laws); ictus_solver_internal_force.
   integer, parameter :: FORCE_AUTO = 0, FORCE_ASSEMBLED = 1, FORCE_ELEMENT = 2
+
+  !> Output variables (*OUTPUT, VARIABLES=; doc/user-guide.md §6): displacement, velocity,
+  !! acceleration, Cauchy stress, strain, von Mises stress, equivalent plastic strain and
+  !! reaction force, in this order (the order of the processed deck).
+  integer, parameter :: VAR_U = 1, VAR_V = 2, VAR_A = 3, VAR_S = 4, VAR_E = 5, VAR_MISES = 6, &
+      VAR_PEEQ = 7, VAR_RF = 8, NVAR = 8
+  character(len=*), parameter :: VAR_NAMES(NVAR) = [character(len=5) :: 'U', 'V', 'A', 'S', &
+      'E', 'MISES', 'PEEQ', 'RF']
+
+  !> A node set with its own history (*OUTPUT, HISTORY, NSET=): its name (lower case, the
+  !! group under /history/nset), its nodes (global indices, increasing) and the variables
+  !! recorded (VAR_U: mean displacement, VAR_V: mean velocity, VAR_RF: summed reaction).
+  type :: output_set_t
+    character(len=str_len) :: name = ''
+    integer, allocatable :: nodes(:)
+    logical :: vars(NVAR) = .false.
+  end type output_set_t
 
   !> The mesh (its parent component `mesh_t`: coordinates, elements, dimension) and the
   !! settings of the run on it.
@@ -82,8 +100,20 @@ module ictus_solver_model
     !> Undamped lumped-mass steps without output per sweep over K (ictus_solver_sweep);
     !! 0 = AUTO: SWEEP_AUTO_STEPS, timed against single steps at the start of the run.
     integer :: sweep_steps = 0
+    !> History records every history_every steps, or with history_interval > 0 at the steps
+    !! closest to its multiples (TIME INTERVAL=); the same for field snapshots (field_every
+    !! = 0: about 20 snapshots).
     integer :: history_every = 1
+    real(dp) :: history_interval = 0.0_dp
     integer :: field_every = 0
+    real(dp) :: field_interval = 0.0_dp
+    !> The variables of the field snapshots (VAR_*); by default U, V, S and MISES (and PEEQ
+    !! where a law has plastic history, set by the model builder).
+    logical :: field_vars(NVAR) = [.true., .true., .false., .true., .false., .true., .false., &
+        .false.]
+    !> Node sets with a history of their own.
+    integer :: nout_sets = 0
+    type(output_set_t), allocatable :: out_sets(:)
     !> Viewing samples per direction of each NURBS element (*OUTPUT, FIELD, SAMPLES=);
     !! 0 = 2 p_max + 1 of its patch.
     integer :: viz_samples = 0

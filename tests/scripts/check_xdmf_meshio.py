@@ -135,7 +135,8 @@ def main():
 
 def check_cell_fields(c, ictus, work):
     """A model of one FE block (input/hertz/q8_hrz.inp) also shows the per-element von Mises
-    stress and PEEQ as cell fields; meshio reads them equal to the HDF5 datasets."""
+    stress as a cell field; meshio reads it equal to the HDF5 dataset. The model is elastic, so
+    by default its snapshots hold no PEEQ, and the sidecar shows none."""
     import meshio
     import subprocess
     deck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "input",
@@ -147,13 +148,14 @@ def check_cell_fields(c, ictus, work):
         bad = []
         for k, (step, _) in enumerate(xc.snapshots(out)):
             _, _, cd = r.read_data(k)
-            for name, dataset in (("element_mises", "mises"), ("peeq", "peeq")):
-                got = cd.get(name)
-                if got is None or not np.array_equal(np.ravel(got[0]),
-                                                     xc.field(out, step, dataset)):
-                    bad.append(f"{name} of {step}")
-    c.check(not bad, "meshio q8_hrz.xdmf: the cell fields element_mises and peeq of every step "
-            "equal the HDF5 datasets", ", ".join(bad[:5]))
+            got = cd.get("element_mises")
+            if got is None or not np.array_equal(np.ravel(got[0]),
+                                                 xc.field(out, step, "mises")):
+                bad.append(f"element_mises of {step}")
+            if "peeq" in cd:
+                bad.append(f"peeq shown at {step}")
+    c.check(not bad, "meshio q8_hrz.xdmf: the cell field element_mises of every step equals "
+            "the HDF5 dataset, and no peeq is shown (an elastic model)", ", ".join(bad[:5]))
 
 
 if __name__ == "__main__":

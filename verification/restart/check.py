@@ -88,10 +88,13 @@ def main():
     same_results(chk, ref, vcheck.Results(out), "chained run (np 2 then 3)")
 
     # damped sweeps across a restart: the static Hertz relaxation (Q8, *DAMPING, a rigid wall)
-    # recording every 10 steps, so that the damped steps in between run as sweeps of 6 steps
+    # recording every 10 steps, so that the damped steps in between run as sweeps of 6 steps;
+    # with a node-set history and field snapshots at a time interval, which the continued
+    # run must cut back and carry on as well
     damped = open(os.path.join(vcheck.ROOT, "input", "hertz", "static_q8.inp")).read()
     for old, new in (("*DYNAMIC, EXPLICIT\n", "*DYNAMIC, EXPLICIT, SWEEP STEPS=6\n"),
-                     ("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n"),
+                     ("HISTORY, EVERY=1\n", "HISTORY, EVERY=10\n*OUTPUT, HISTORY, NSET=UPPER_TOP\n"),
+                     ("FIELD, EVERY=1000\n", "FIELD, TIME INTERVAL=0.35\n"),
                      ("*END STEP", "*RESTART, WRITE, EVERY=100\n*END STEP")):
         chk.true(damped.count(old) == 1, f"damped deck: {old.strip()!r} found once")
         damped = damped.replace(old, new)
@@ -111,6 +114,8 @@ def main():
     vcheck.run_ictus(args, ddeck, dout, np=1, extra=["--restart", dout[:-3] + ".chk.h5"])
     dref = vcheck.Results(dref_out)
     chk.true(dref.history("energy/external_work")[-1] < 0.0, "the damping does work")
+    chk.true(dref.history("nset/upper_top/velocity").shape == dref.history("time").shape + (2,),
+             "the node-set history has one record per history record")
     same_results(chk, dref, vcheck.Results(dout), "damped sweeps, stopped and restarted")
 
     # a checkpoint of another deck is refused (exit 1, message), nothing is overwritten

@@ -15,6 +15,9 @@ displacement fields (one every 50 steps; the step is estimated every 10):
   falls below dt0/1000, naming the element, with the results so far readable;
 - with the step following the collapse the total energy stays at its start to 1e-4 while
   dt > dt0/100 (a fixed dt0 would have inverted the elements long before);
+- with `*OUTPUT, FIELD, TIME INTERVAL=0.004` while the step changes, there is one snapshot per
+  multiple k 0.004 reached, at the step time closest to it (from the step times of a history
+  of every step) (the run fails before its end, so there is no end-of-run snapshot);
 - the SVK run is bit-identical on 2 ranks, and continued on 2 ranks from a checkpoint of the
   1-rank run (the step and the one before it travel in the checkpoint).
 """
@@ -37,7 +40,7 @@ LAWS = {
 }
 
 
-def deck(law, restart=False):
+def deck(law, restart=False, interval=None):
     mesh = vcheck.rect_mesh(type="Q4", nx=4, ny=4, lx=1.0, ly=1.0, x0=-0.5, y0=-0.5,
                             distort=0.15)
     ic = ["*INITIAL CONDITIONS, TYPE=VELOCITY"]
@@ -45,8 +48,9 @@ def deck(law, restart=False):
         ic += [f"{i}, 1, {-20.0 * x!r}", f"{i}, 2, {-20.0 * y!r}"]
     return (f"*HEADING\ncrushed square, {law}\n*MATERIAL, NAME=MAT\n{LAWS[law]}*DENSITY\n1.0\n"
             + mesh + "\n".join(ic) + "\n*MASS, TYPE=HRZ\n*STEP, NLGEOM=YES\n"
-            f"*DYNAMIC, EXPLICIT\n{DT0}, 0.1\n*OUTPUT, HISTORY, EVERY=10\n"
-            "*OUTPUT, FIELD, EVERY=50\n"
+            f"*DYNAMIC, EXPLICIT\n{DT0}, 0.1\n"
+            + ("*OUTPUT, HISTORY, EVERY=10\n*OUTPUT, FIELD, EVERY=50\n" if interval is None else
+               f"*OUTPUT, HISTORY, EVERY=1\n*OUTPUT, FIELD, TIME INTERVAL={interval}\n")
             + ("*RESTART, WRITE, EVERY=1000\n" if restart else "") + "*END STEP\n")
 
 
@@ -127,8 +131,23 @@ def main():
         drift = abs(etot[keep] - etot[0]).max() / abs(etot[0])
         chk.below(drift, 1e-4, f"{law}: energy kept while dt > dt0/100 (t up to "
                   f"{t[keep].max():.5f} of 0.05)")
+    check_interval(args, chk)
     check_bits(args, chk)
     chk.finish()
+
+
+def check_interval(args, chk):
+    path = os.path.join(args.work, "crush_interval.inp")
+    with open(path, "w") as fh:
+        fh.write(deck("SVK", interval=0.004))
+    out = os.path.join(args.work, "crush_interval.h5")
+    vcheck.run_ictus(args, path, out, expect_status=2)
+    res = vcheck.Results(out)
+    t = res.history("time")
+    got = sorted(res.field_time(n) for n in res.field_steps())
+    want = {float(t[np.argmin(abs(t - k * 0.004))]) for k in range(int(t[-1] / 0.004) + 1)}
+    chk.true(got == sorted(want), f"TIME INTERVAL=0.004 with a changing step: {len(got)} "
+             "snapshots, each at the step time closest to its multiple")
 
 
 def check_bits(args, chk):

@@ -31,7 +31,7 @@ module ictus_solver_stepper
   implicit none
   private
   public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
-      stepper_done, DT_REFRESH, DT_FLOOR
+      stepper_done, stepper_estimate, DT_REFRESH, DT_FLOOR
 
   !> With finite strain the stable step follows the state (doc/theory.md §7.1): it is
   !! estimated anew every DT_REFRESH steps, and a step below DT_FLOOR times the start-up step
@@ -226,6 +226,15 @@ contains
     class(contact_hook_t), intent(inout) :: this
     call contact_between(this%stp)
   end subroutine hook_run
+
+  !> The stable step from t_n (where it follows the state, every DT_REFRESH steps): call it
+  !! before deciding what is due at t_n, which with TIME INTERVAL= depends on the step that
+  !! leaves t_n. The steps inside `stepper_advance` and `stepper_record` estimate it
+  !! themselves (once per step).
+  subroutine stepper_estimate(stp)
+    type(stepper_t), intent(inout) :: stp
+    call refresh_dt(stp)
+  end subroutine stepper_estimate
 
   !> Whether the state has reached the end time (the last step ends at or just after it).
   pure logical function stepper_done(stp)

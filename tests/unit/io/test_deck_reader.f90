@@ -31,6 +31,8 @@ program test_deck_reader
   call case_round_trip(t, dir//'/patch_halfdisc.inp', 'roundtrip_patch.inp')
   call case_corrector(t, dir//'/step_corrector.inp')
   call case_round_trip(t, dir//'/step_corrector.inp', 'roundtrip_corrector.inp')
+  call case_output(t, dir//'/step_output.inp')
+  call case_round_trip(t, dir//'/step_output.inp', 'roundtrip_output.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
   call case_missing_file(t)
   call t%finish()
@@ -306,6 +308,31 @@ contains
         'corrector: MASS SOLVER=CORRECTOR, MASS PASSES=3')
   end subroutine case_corrector
 
+  !> *OUTPUT with TIME INTERVAL=, VARIABLES= and NSET= (deck version 2).
+  subroutine case_output(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    integer :: n0
+    n0 = error_count()
+    call read_deck(path, d)
+    call t%equal_int(error_count() - n0, 0, 'output: no errors')
+    call t%true(d%step%history_interval == 5.0e-4_dp .and. d%step%history_every == 1, &
+        'output: history TIME INTERVAL=5e-4')
+    call t%true(d%step%field_interval == 2.5e-3_dp .and. d%step%field_samples == 3 .and. &
+        d%step%field_vars_given .and. all(d%step%field_vars .eqv. [.true., .false., .false., &
+        .true., .false., .true., .false., .false.]), 'output: field U, S, MISES, interval')
+    call t%equal_int(d%step%n_out_sets, 2, 'output: two node sets')
+    if (d%step%n_out_sets /= 2) return
+    associate (a => d%step%out_sets(1), b => d%step%out_sets(2))
+      call t%true(a%name == 'EDGE' .and. a%vars_given .and. all(a%vars .eqv. [.true., &
+          .false., .false., .false., .false., .false., .false., .true.]) .and. a%every == 0 &
+          .and. a%interval == 0.0_dp, 'output: set EDGE with U, RF')
+      call t%true(b%name == 'SQ' .and. .not. b%vars_given .and. count(b%vars) == 3 .and. &
+          b%interval == 5.0e-4_dp, 'output: set SQ with the default U, V, RF')
+    end associate
+  end subroutine case_output
+
   !> deck_echo(full) written to a file and read again gives the same deck.
   subroutine case_round_trip(t, path, copy)
     type(checker_t), intent(inout) :: t
@@ -461,9 +488,21 @@ contains
         a%step%t_end == b%step%t_end .and. a%step%safety == b%step%safety .and. &
         a%step%history_every == b%step%history_every .and. &
         a%step%field_every == b%step%field_every .and. &
+        a%step%history_interval == b%step%history_interval .and. &
+        a%step%field_interval == b%step%field_interval .and. &
+        all(a%step%field_vars .eqv. b%step%field_vars) .and. &
+        (a%step%field_vars_given .eqv. b%step%field_vars_given) .and. &
+        a%step%n_out_sets == b%step%n_out_sets .and. &
         a%step%restart_every == b%step%restart_every .and. &
         a%step%mass_solver == b%step%mass_solver .and. a%step%mass_tol == b%step%mass_tol &
         .and. a%step%mass_passes == b%step%mass_passes
+    do k = 1, min(a%step%n_out_sets, b%step%n_out_sets)
+      associate (x => a%step%out_sets(k), y => b%step%out_sets(k))
+        same = same .and. x%name == y%name .and. all(x%vars .eqv. y%vars) .and. &
+            (x%vars_given .eqv. y%vars_given) .and. x%every == y%every .and. &
+            x%interval == y%interval
+      end associate
+    end do
     call t%true(same, label//': step')
   end subroutine compare_conditions
 
