@@ -87,6 +87,9 @@ module ictus_io_results
     !! (those whose first control point it owns), the rows of their samples and their values
     !! (2, nmine).
     type(iga_viz_t) :: viz
+    !> Per model element: its row in the cell block of its type (the FE blocks' cell fields
+    !! when a block is not the whole model), and its viewing cells (NURBS elements).
+    integer, allocatable :: block_row(:), ncells_of(:), elem_type(:)
     integer :: nviz_mine = 0
     integer, allocatable :: viz_elems(:), viz_mine(:)
     real(dp), allocatable :: viz_u(:,:), viz_v(:,:)
@@ -345,7 +348,8 @@ contains
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer :: t, ne, e, q, k, s
-    allocate(r%grids(0))
+    allocate(r%grids(0), r%block_row(model%nel), r%ncells_of(model%nel))
+    r%elem_type = model%etype
     do t = 1, element_type_count()
       ne = count(model%etype == t)
       ! NURBS elements are shown on their viewing cells (below)
@@ -353,8 +357,20 @@ contains
       r%grids = [r%grids, xdmf_grid_t(lower(etype_name(t)), t, ne, &
           maxval(model%nen, mask=model%etype == t), model%nn, ne == model%nel)]
     end do
+    do t = 1, element_type_count()
+      k = 0
+      do e = 1, model%nel
+        if (model%etype(e) /= t) cycle
+        k = k + 1
+        r%block_row(e) = k
+      end do
+    end do
+    r%ncells_of = 0
     if (model%npatch == 0) return
     call iga_viz_init(model, r%viz, model%viz_samples)
+    do e = 1, model%nel
+      if (r%viz%first_cell(e) >= 0) r%ncells_of(e) = (r%viz%patches(model%patch(e))%s - 1)**2
+    end do
     r%viz_elems = pack([(e, e = 1, model%nel)], r%viz%first_point >= 0)
     r%viz_elems = pack(r%viz_elems, dom%owner(model%conn(1, r%viz_elems)) == dom%rank)
     r%nviz_mine = 0
@@ -658,8 +674,49 @@ contains
     if (r%vars(VAR_PEEQ)) call h5u_write_rows(g, 'peeq', ef%peeq, ef%elem, nel)
     if (r%vars(VAR_S)) call h5u_write_rows(g, 'nodal_stress', ef%nodal_stress, gid, r%nn)
     if (r%vars(VAR_MISES)) call h5u_write_rows(g, 'nodal_mises', ef%nodal_mises, gid, r%nn)
+    if (r%vars(VAR_MISES)) call block_cells(r, g, 'mises', ef%mises, ef%elem)
+    if (r%vars(VAR_PEEQ)) call block_cells(r, g, 'peeq', ef%peeq, ef%elem)
     call h5u_close_group(g)
   end subroutine results_element_fields
+
+  !> The per-element values v of the elements elem (this rank's) as cell fields of the XDMF
+  !! blocks that are not the whole model: `<type>_<name>` (one row per element of that type,
+  !! in model order) for an FE block beside others, `viz_<name>` (the element's value on
+  !! each of its viewing cells) for NURBS elements (doc/results.md).
+  subroutine block_cells(r, g, name, v, elem)
+    type(results_t), intent(inout) :: r
+    integer(hid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: v(:)
+    integer, intent(in) :: elem(:)
+    real(dp), allocatable :: vals(:)
+    integer, allocatable :: rows(:)
+    integer :: k, j, n, q
+    do k = 1, size(r%grids)
+      associate (gr => r%grids(k))
+        if (gr%whole) cycle
+        if (gr%etype == ETYPE_IGA) then
+          n = sum(r%ncells_of(elem))
+          allocate(vals(n), rows(n))
+          n = 0
+          do j = 1, size(elem)
+            do q = 1, r%ncells_of(elem(j))
+              n = n + 1
+              rows(n) = r%viz%first_cell(elem(j)) + q
+              vals(n) = v(j)
+            end do
+          end do
+          call h5u_write_rows(g, 'viz_'//name, vals, rows, gr%nel)
+        else
+          rows = pack([(j, j = 1, size(elem))], r%elem_type(elem) == gr%etype)
+          vals = v(rows)
+          rows = r%block_row(elem(rows))
+          call h5u_write_rows(g, trim(gr%name)//'_'//name, vals, rows, gr%nel)
+        end if
+        deallocate(vals, rows)
+      end associate
+    end do
+  end subroutine block_cells
 
   !> Writes the rows `rows` of the (nglobal, 3) dataset `name`: the vectors x (2, :) with a
   !! third component 0.

@@ -117,10 +117,28 @@ contains
           'Dimensions="', g%npoints, '">'//h5//':/fields/'//sname//'/nodal_mises</DataItem>'
       write(u, '(a)') '     </Attribute>'
     end if
-    if (g%whole .and. g%mises) call cell_scalar(u, 'element_mises', 'mises', h5, sname, g%nel)
-    if (g%whole .and. g%peeq) call cell_scalar(u, 'peeq', 'peeq', h5, sname, g%nel)
+    ! the per-element von Mises stress and PEEQ as cell fields: the model's datasets for a
+    ! block that is the whole model, else the block's own (FE: <type>_mises, NURBS viewing
+    ! cells: viz_mises, each cell with its element's value)
+    if (g%mises) call cell_scalar(u, 'element_mises', block_dataset(g, 'mises'), h5, sname, &
+        g%nel)
+    if (g%peeq) call cell_scalar(u, 'peeq', block_dataset(g, 'peeq'), h5, sname, g%nel)
     write(u, '(a)') '    </Grid>'
   end subroutine grid
+
+  !> The dataset of the per-element field `name` on the cells of block g.
+  function block_dataset(g, name) result(dataset)
+    type(xdmf_grid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: dataset
+    if (g%etype == ETYPE_IGA) then
+      dataset = 'viz_'//name
+    else if (g%whole) then
+      dataset = name
+    else
+      dataset = trim(g%name)//'_'//name
+    end if
+  end function block_dataset
 
   !> A cell scalar: the per-element dataset `dataset` of the snapshot.
   subroutine cell_scalar(u, name, dataset, h5, sname, nel)
