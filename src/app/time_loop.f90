@@ -30,7 +30,7 @@ module ictus_app_time_loop
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
-      results_records, results_element_fields
+      results_records, results_element_fields, results_reaction
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_options, only: run_options_t, EXIT_RUNTIME, EXIT_WALL_TIME
   implicit none
@@ -230,6 +230,7 @@ contains
             dom%halo%gid(1:dom%nowned), stp%contact)
         call element_fields(model, dom, s%u, s%hist, lp%ef)
         call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), model%nel)
+        call results_reaction(lp%res, n, s%rf, dom%halo%gid(1:dom%nowned))
         if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
       end if
     end associate
@@ -373,18 +374,23 @@ contains
     if (len(stp%failure) > 0) call runtime_failure(lp, stp, stp%failure)
   end subroutine check_failure
 
-  !> Stops the run (exit 2) when the energies are not finite or have grown without bound.
-  !! The energies are global sums, so every rank takes the same decision.
+  !> Stops the run (exit 2) when the energies are not finite or have grown without bound:
+  !! beyond 1000 times the initial energy plus the work done on the model (loads and
+  !! prescribed motion feed energy in). The energies are global sums, so every rank takes the
+  !! same decision.
   subroutine check_blowup(lp, stp)
     type(loop_t), intent(inout) :: lp
     type(stepper_t), intent(in) :: stp
-    real(dp) :: e
+    real(dp) :: e, e_in
     e = stp%s%e_kin + stp%s%e_strain
+    e_in = lp%e0
+    if (stp%s%loaded) e_in = e_in + abs(stp%s%w_ext)
     if (.not. ieee_is_finite(e)) then
       call runtime_failure(lp, stp, 'the solution is not finite (NaN or overflow)')
-    else if (lp%e0 > 0.0_dp .and. e > 1.0e3_dp*lp%e0) then
+    else if (e_in > 0.0_dp .and. e > 1.0e3_dp*e_in) then
       call runtime_failure(lp, stp, 'the solution blows up: kinetic + strain energy '// &
           str(e)//' is more than 1000 times the initial energy '//str(lp%e0)// &
+          trim(merge(' plus the external work', '                       ', stp%s%loaded))// &
           ' (unstable time step?)')
     end if
   end subroutine check_blowup
