@@ -87,7 +87,14 @@ contains
         end if
       end associate
     end do
-    n = count(last > 0 .and. varying_dof())
+    n = 0
+    do i = 1, model%nn
+      do d = 1, 2
+        if (last(d, i) > 0) then
+          if (varying(last(d, i))) n = n + 1
+        end if
+      end do
+    end do
     associate (ls => model%loads)
       ls%nmotion = n
       allocate(ls%m_node(n), ls%m_dof(n), ls%m_kind(n), ls%m_amp(n), ls%m_value(n))
@@ -118,24 +125,13 @@ contains
 
   contains
 
+    !> Whether *BOUNDARY record kb prescribes motion (AMPLITUDE= or TYPE=VELOCITY).
     logical function varying(kb)
       integer, intent(in) :: kb
       varying = len_trim(deck%boundaries(kb)%amplitude) > 0 .or. &
           deck%boundaries(kb)%kind == BC_VELOCITY
     end function varying
 
-    elemental logical function varying_dof_of(kb)
-      integer, intent(in) :: kb
-      varying_dof_of = .false.
-      if (kb == 0) return
-      varying_dof_of = len_trim(deck%boundaries(kb)%amplitude) > 0 .or. &
-          deck%boundaries(kb)%kind == BC_VELOCITY
-    end function varying_dof_of
-
-    function varying_dof() result(r)
-      logical :: r(2, model%nn)
-      r = varying_dof_of(last)
-    end function varying_dof
   end subroutine build_motion
 
   !> *CLOAD lines and *DLOAD, GRAV lines as nodal loads.
