@@ -296,6 +296,7 @@ contains
       s%rf(:, 1:nn) = s%a(:, 1:nn)
       call halo_exchange(dom%halo, s%rf)
       call mass_apply(mop, s%rf, s%mv)
+      s%rf(:, nn + 1:) = 0.0_dp
     end if
     do i = 1, nn
       do d = 1, size(s%rf, 1)

@@ -89,6 +89,10 @@ contains
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
     call loads_init(ld, model, dom)
+    if (ld%active) call log_info('loads: '//str(model%loads%nnodal)//' nodal and body '// &
+        'loads, '//str(model%loads%npress)//' pressures, '//str(model%loads%nmotion)// &
+        ' dofs with prescribed motion; every step takes the plain path (f_ext - f_int, '// &
+        'mass solve), without fused steps or sweeps')
     call state_init(stp%s, stp%fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
         model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt, ld, model%fixed(:, dom%halo%gid))
     if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge at the start'
