@@ -27,7 +27,8 @@ Q4 elements; the force F = 1 is split over the two nodes of the end x = 10.
    1^T M a (the internal forces sum to zero): the momentum P = sum of the row-sum masses times
    the velocities obeys P_{n+1/2} - P_{n-1/2} = dt (F + sum R_n), and with the mean velocities
    of the fields P_{n+1} - P_n = dt (F + (sum R_n + sum R_{n+1})/2), checked at every step to
-   1e-9 of F dt (for the consistent mass this needs the coupling M_cf a_f in R).
+   1e-9 of F dt (for the consistent mass this needs the coupling M_cf a_f in R). The
+   consistent-mass run on 2 ranks gives the same bits.
 """
 import math
 import os
@@ -90,6 +91,9 @@ def check_momentum(args, chk):
         chk.below(float(err), 1e-9, f"{mass}: momentum change = impulse of F and the reactions")
         chk.true(float(np.max(np.abs(r))) > 0.5 * F, f"{mass}: the wave reaches the held end "
                  f"(largest |sum R| = {float(np.max(np.abs(r))):.3g})")
+    o = out.replace(".h5", "_np2.h5")
+    vcheck.run_ictus(args, path, o, np=2)
+    chk.true(vcheck.same_bits(out, o), "CONSISTENT: 2 ranks bit-identical")
 
 
 def same_bits(a, b):

@@ -19,7 +19,8 @@ checked at every node within 0.5 % of u_r(a) for
 The reactions on each symmetry line balance the pressure on the arc: sum R_x (x = 0) = -p a
 and sum R_y (y = 0) = -p a, to 1e-6 (the integral of p n over the arc depends only on its end
 points, so it is exact for the quadratic element edges and the NURBS side alike; what is left
-is the residual of the relaxation).
+is the residual of the relaxation). The processed deck of each (the echo of *AMPLITUDE and
+*DLOAD) reruns bit for bit.
 """
 import math
 import os
@@ -120,6 +121,8 @@ def check(args, chk, label, text, iga):
     xs, ys = np.abs(x0[:, 0]) < 1e-12, np.abs(x0[:, 1]) < 1e-12
     chk.close(float(rf[xs, 0].sum()), -P * A, 1e-6, f"{label}: sum R_x on x = 0 = -p a")
     chk.close(float(rf[ys, 1].sum()), -P * A, 1e-6, f"{label}: sum R_y on y = 0 = -p a")
+    chk.true(vcheck.processed_deck_reruns(args, out), f"{label}: the processed deck reruns bit "
+             "for bit")
 
 
 def main():

@@ -11,7 +11,8 @@ biquadratic NURBS patch (by its patch name), with an empty element set (the whol
 second run. No constrained dofs: the reaction field is 0. The total energy (kinetic + strain -
 external work) stays within 2 % of the work done: the load applied at t = 0 excites the
 highest modes, whose energy evaluated with the mean velocity oscillates by about
-(omega dt/2)^2 around the conserved one (doc/theory.md §6).
+(omega dt/2)^2 around the conserved one (doc/theory.md §6). The processed deck (the echo of
+the *DLOAD lines, an empty element set included) reruns bit for bit.
 """
 import os
 import sys
@@ -69,6 +70,8 @@ def main():
         work = res.history("energy/external_work")
         chk.below(float(np.max(np.abs(total - total[0])) / work[-1]), 0.02,
                   f"{name}: total energy constant (relative to the work of gravity)")
+        chk.true(vcheck.processed_deck_reruns(args, out), f"{name}: the processed deck reruns "
+                 "bit for bit")
     chk.finish()
 
 
