@@ -22,6 +22,7 @@ Q4 elements; the force F = 1 is split over the two nodes of the end x = 10.
 2. Bar held at x = 0 (u_x = 0 on the end, u_y = 0 at one corner), F ramped by a SMOOTH STEP
    amplitude over t in [0, 2] and relaxed with *DAMPING: at t = 6 the end displacement is
    F L/(E A) = 0.01 and the reactions sum to -F (to 1e-4), the other dofs' reactions are 0.
+   Here the *CLOAD names the two end nodes by their ids.
 3. The held bar under the sudden force, undamped, with the lumped (HRZ) and the consistent
    mass: the reactions are R = (M a)_c - (f_ext - f_int)_c, so summed with the loads they give
    1^T M a (the internal forces sum to zero): the momentum P = sum of the row-sum masses times
@@ -62,7 +63,8 @@ def held_deck():
     return (header("held bar relaxed under a ramped end force")
             + "*AMPLITUDE, NAME=RAMP, DEFINITION=SMOOTH STEP\n0, 0, 2, 1\n"
             + "*BOUNDARY\nLEFT, 1, 1\nCORNER_LL, 2, 2\n*DAMPING, ALPHA=8\n"
-            + f"*STEP\n*DYNAMIC, EXPLICIT\n0, 6\n*CLOAD, AMPLITUDE=RAMP\nRIGHT, 1, {F / 2}\n"
+            + f"*STEP\n*DYNAMIC, EXPLICIT\n0, 6\n*CLOAD, AMPLITUDE=RAMP\n"
+            + f"{NX + 1}, 1, {F / 2}\n{2 * NX + 2}, 1, {F / 2}\n"
             "*OUTPUT, HISTORY, EVERY=100\n*OUTPUT, FIELD, EVERY=100000\n*END STEP\n")
 
 
