@@ -351,8 +351,15 @@ contains
     real(dp) :: e1, drift
     character(len=:), allocatable :: line
     e1 = total_energy(stp%s)
-    drift = 0.0_dp
-    if (abs(lp%e0) > 0.0_dp) drift = (e1 - lp%e0)/abs(lp%e0)
+    ! relative to the energy at the start, or with loads (which may start from rest) to the
+    ! larger of it and the work done
+    drift = abs(lp%e0)
+    if (stp%s%loaded) drift = max(drift, abs(stp%s%w_ext))
+    if (drift > 0.0_dp) then
+      drift = (e1 - lp%e0)/drift
+    else
+      drift = 0.0_dp
+    end if
     associate (s => stp%s, mop => stp%mop)
       call log_info('energy balance: total at start '//str(lp%e0, 10)//', at end '// &
           str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &

@@ -7,7 +7,9 @@
 !!   never below the current degree (earlier *ELEVATE of the same patch included);
 !! * names used but never defined: set references, *BOUNDARY / *INITIAL CONDITIONS targets,
 !!   *SURFACE element sets, PATCH= and ELSET= of *NSET, *SURFACE, *MASS and *DAMPING, the
-!!   surfaces of *CONTACT PAIR and *RIGID WALL; set reference cycles.
+!!   surfaces of *CONTACT PAIR and *RIGID WALL; set reference cycles;
+!! * loads: amplitude names unique and every AMPLITUDE= defined, the sets and surfaces of
+!!   *CLOAD and *DLOAD defined.
 !! Every ELSET name (of *ELSET or of *ELEMENT, ELSET=) and every patch name is also a node set.
 module ictus_io_deck_checks
   use ictus_core_kinds, only: str_len

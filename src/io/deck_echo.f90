@@ -2,7 +2,8 @@
 !! explicit (for the log, the results file, and the reader's round-trip test).
 !!
 !! Cards come in a fixed order (heading, analysis, materials, nodes, elements, patches,
-!! patch operations, sets, surfaces, conditions, mass, damping, contact, walls, step). Reals
+!! patch operations, sets, surfaces, amplitudes, conditions, loads, mass, damping, contact,
+!! walls, step; the load cards go to the model part wherever the deck had them). Reals
 !! are written with the fewest digits that read back to the identical double. Reading the text
 !! of `deck_echo(deck, full=.true.)` with `read_deck` gives the same records again (locations
 !! apart). Node sets given on *NODE, NSET= are written as *NSET cards; *NSET GENERATE is
