@@ -12,7 +12,7 @@ module ictus_app_build_contact
   use ictus_core_strings, only: str, upper
   use ictus_geometry_sides, only: side_name
   use ictus_contact_surface, only: SEG_LAGRANGE, SEG_BEZIER, surface_init, face_segment, &
-      element_area, patch_side_segments
+      element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT
   use ictus_solver_model, only: model_t
@@ -22,7 +22,7 @@ module ictus_app_build_contact
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   implicit none
   private
-  public :: build_contact
+  public :: build_contact, build_named_surface
 
 contains
 
@@ -46,7 +46,7 @@ contains
     where (model%patch /= 0) fe_ids = -1
     call id_map_init(emap, fe_ids)
     do i = 1, deck%n_surfaces
-      call build_surface(deck, model, emap, deck%surfaces(i), c, i)
+      call build_surface(deck, model, emap, deck%surfaces(i), c%surfaces(i))
     end do
     do i = 1, deck%n_pairs
       associate (p => deck%pairs(i))
@@ -114,14 +114,31 @@ contains
         '*SURFACE card')
   end function surface_index
 
-  !> Builds surface i of c from its deck record.
-  subroutine build_surface(deck, model, emap, sin, c, i)
+  !> Builds the surface `name` of the deck (for a load: *DLOAD, P) into `surf`; an undefined
+  !! name is reported at `where` for `card`.
+  subroutine build_named_surface(deck, model, name, where, card, surf)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name, where, card
+    type(contact_surface_t), intent(inout) :: surf
+    type(id_map_t) :: emap
+    integer, allocatable :: fe_ids(:)
+    integer :: i
+    i = surface_index(deck, name, where, card)
+    if (i == 0) return
+    fe_ids = model%elem_id
+    where (model%patch /= 0) fe_ids = -1
+    call id_map_init(emap, fe_ids)
+    call build_surface(deck, model, emap, deck%surfaces(i), surf)
+  end subroutine build_named_surface
+
+  !> Builds the surface of deck record `sin` into `surf`.
+  subroutine build_surface(deck, model, emap, sin, surf)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
     type(id_map_t), intent(in) :: emap
     type(surface_in_t), intent(in) :: sin
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: i
+    type(contact_surface_t), intent(inout) :: surf
     integer, allocatable :: conn(:,:), nens(:), elem(:), kinds(:)
     real(dp), allocatable :: wgt(:,:), ext(:,:,:)
     integer :: nseg, ip, ierr, e0, n0
@@ -148,7 +165,7 @@ contains
       elem = elem + e0
       allocate(kinds(nseg))
       kinds = SEG_BEZIER
-      call surface_init(c%surfaces(i), sin%name, kinds, nens, conn, model%x0, wgt=wgt, &
+      call surface_init(surf, sin%name, kinds, nens, conn, model%x0, wgt=wgt, &
           ext=ext, elem=elem)
     else if (sin%kind == SURF_ELEMENT) then
       n0 = error_count()
@@ -159,7 +176,7 @@ contains
       end if
       allocate(kinds(nseg))
       kinds = SEG_LAGRANGE
-      call surface_init(c%surfaces(i), sin%name, kinds, nens(1:nseg), conn(:, 1:nseg), &
+      call surface_init(surf, sin%name, kinds, nens(1:nseg), conn(:, 1:nseg), &
           model%x0, elem=elem(1:nseg))
     end if
   end subroutine build_surface

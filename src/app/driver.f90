@@ -28,6 +28,7 @@ module ictus_app_driver
       contact_bipenalty_init
   use ictus_contact_contact, only: contact_t
   use ictus_app_build_contact, only: build_contact
+  use ictus_app_build_loads, only: build_loads
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo
@@ -61,6 +62,8 @@ contains
     if (error_count() > 0) call input_failure()
     call phase('deck read', t0)
     call build_model(deck, model)
+    if (error_count() > 0) call input_failure()
+    call build_loads(deck, model)
     if (error_count() > 0) call input_failure()
     call phase('model built', t0)
     call domain_init(dom, model, ierr)

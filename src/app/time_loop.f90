@@ -31,7 +31,8 @@ module ictus_app_time_loop
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
-      results_records, results_element_fields, results_sets, results_want_stress
+      results_records, results_element_fields, results_sets, results_want_stress, &
+      results_reaction
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
   use ictus_app_options, only: run_options_t, EXIT_RUNTIME, EXIT_WALL_TIME
   use ictus_app_schedule, only: schedule_t, schedule_init, schedule_due, schedule_next, &
@@ -316,6 +317,7 @@ contains
           call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), &
               model%nel)
         end if
+        call results_reaction(lp%res, n, s%rf, dom%halo%gid(1:dom%nowned))
         if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
       end if
     end associate
@@ -485,8 +487,15 @@ contains
     real(dp) :: e1, drift
     character(len=:), allocatable :: line
     e1 = total_energy(stp%s)
-    drift = 0.0_dp
-    if (abs(lp%e0) > 0.0_dp) drift = (e1 - lp%e0)/abs(lp%e0)
+    ! relative to the energy at the start, or with loads (which may start from rest) to the
+    ! larger of it and the work done
+    drift = abs(lp%e0)
+    if (stp%s%loaded) drift = max(drift, abs(stp%s%w_ext))
+    if (drift > 0.0_dp) then
+      drift = (e1 - lp%e0)/drift
+    else
+      drift = 0.0_dp
+    end if
     associate (s => stp%s, mop => stp%mop)
       call log_info('energy balance: total at start '//str(lp%e0, 10)//', at end '// &
           str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &
@@ -508,18 +517,23 @@ contains
     if (len(stp%failure) > 0) call runtime_failure(lp, stp, stp%failure)
   end subroutine check_failure
 
-  !> Stops the run (exit 2) when the energies are not finite or have grown without bound.
-  !! The energies are global sums, so every rank takes the same decision.
+  !> Stops the run (exit 2) when the energies are not finite or have grown without bound:
+  !! beyond 1000 times the initial energy plus the work done on the model (loads and
+  !! prescribed motion feed energy in). The energies are global sums, so every rank takes the
+  !! same decision.
   subroutine check_blowup(lp, stp)
     type(loop_t), intent(inout) :: lp
     type(stepper_t), intent(in) :: stp
-    real(dp) :: e
+    real(dp) :: e, e_in
     e = stp%s%e_kin + stp%s%e_strain
+    e_in = lp%e0
+    if (stp%s%loaded) e_in = e_in + abs(stp%s%w_ext)
     if (.not. ieee_is_finite(e)) then
       call runtime_failure(lp, stp, 'the solution is not finite (NaN or overflow)')
-    else if (lp%e0 > 0.0_dp .and. e > 1.0e3_dp*lp%e0) then
+    else if (e_in > 0.0_dp .and. e > 1.0e3_dp*e_in) then
       call runtime_failure(lp, stp, 'the solution blows up: kinetic + strain energy '// &
           str(e)//' is more than 1000 times the initial energy '//str(lp%e0)// &
+          trim(merge(' plus the external work', '                       ', stp%s%loaded))// &
           ' (unstable time step?)')
     end if
   end subroutine check_blowup

@@ -23,7 +23,7 @@ module ictus_io_deck_card
   public :: card_error, check_params, get_param, has_param, has_flag, get_name, get_choice, &
       get_ints, get_reals, get_positive
   public :: no_data, has_data, one_line, line_reals, stream_reals, count_ok, tok_int, &
-      tok_real, tok_name, tok_target, plural
+      tok_real, tok_name, tok_target, plural, target_dof_value, LINE_OK, LINE_STOP, LINE_SKIP
 
   !> One card being read: its keyword line and the range of its data lines.
   type :: card_t
@@ -61,6 +61,9 @@ module ictus_io_deck_card
 
   !> Most values a *NSET GENERATE or *CONTROL POINTS card may produce (guards memory).
   integer, parameter :: max_generated = 10000000
+
+  !> What `target_dof_value` found.
+  integer, parameter :: LINE_OK = 0, LINE_STOP = 1, LINE_SKIP = 2
 
 contains
 
@@ -481,6 +484,31 @@ contains
           str(k)//name_rule())
     end if
   end function tok_name
+
+  !> A data line "node set or node id, dof, value" of `card` (*CLOAD, *INITIAL CONDITIONS):
+  !! LINE_OK; LINE_STOP after an error in its form (the card's other lines are not read);
+  !! LINE_SKIP after a dof outside 1..2 (the next line is read).
+  integer function target_dof_value(text, card, expect, where, target, dof, value) &
+      result(status)
+    character(len=*), intent(in) :: text, card, expect, where
+    character(len=*), intent(out) :: target
+    integer, intent(out) :: dof
+    real(dp), intent(out) :: value
+    type(token_t), allocatable :: toks(:)
+    integer :: n
+    status = LINE_STOP
+    dof = 0
+    value = 0.0_dp
+    call split_values(text, toks, n)
+    if (.not. count_ok(n, 3, 3, expect, where)) return
+    if (.not. tok_target(toks, 1, expect, where, target)) return
+    if (.not. tok_int(toks, 2, expect, where, dof)) return
+    if (.not. tok_real(toks, 3, expect, where, value)) return
+    status = LINE_OK
+    if (dof >= 1 .and. dof <= 2) return
+    call input_error(where, card//': dof '//str(dof)//' outside 1..2 (1 = x, 2 = y)')
+    status = LINE_SKIP
+  end function target_dof_value
 
   !> Token `k` as a node set name or a node id (stored as its canonical digits).
   logical function tok_target(toks, k, expect, where, target) result(ok)

@@ -8,14 +8,16 @@
 !! * names used but never defined: set references, *BOUNDARY / *INITIAL CONDITIONS targets,
 !!   *SURFACE element sets, PATCH= and ELSET= of *NSET, *SURFACE, *MASS and *DAMPING, the
 !!   surfaces of *CONTACT PAIR and *RIGID WALL, the node sets of *OUTPUT, HISTORY, NSET=; set
-!!   reference cycles.
+!!   reference cycles;
+!! * loads: amplitude names unique and every AMPLITUDE= defined, the sets and surfaces of
+!!   *CLOAD and *DLOAD defined.
 !! Every ELSET name (of *ELSET or of *ELEMENT, ELSET=) and every patch name is also a node set.
 module ictus_io_deck_checks
   use ictus_core_kinds, only: str_len
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: str
   use ictus_io_deck_types, only: deck_t, material_in_t, SET_NODE, SET_ELEMENT, SIDE_NONE, &
-      SURF_PATCH, OP_ELEVATE, where_len, ANALYSIS_PLANE_STRESS
+      SURF_PATCH, OP_ELEVATE, where_len, ANALYSIS_PLANE_STRESS, DLOAD_PRESSURE
   implicit none
   private
   public :: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, SKIP_SETS, SKIP_PATCHES, &
@@ -56,6 +58,7 @@ contains
     call check_patches(d, skip)
     call check_sets(d, names)
     call check_uses(d, names)
+    call check_loads(d, names)
     call check_sections(d, names, iand(skip, SKIP_MATERIALS) /= 0)
     call check_dilatation(d)
   end subroutine check_deck
@@ -425,6 +428,68 @@ contains
           '*OUTPUT, HISTORY, NSET=')
     end do
   end subroutine check_uses
+
+  !> The load cards: amplitude names unique and every AMPLITUDE= defined; the node sets of
+  !! *CLOAD, the surfaces of *DLOAD, P and the element sets of *DLOAD, GRAV defined.
+  subroutine check_loads(d, t)
+    type(deck_t), intent(in) :: d
+    type(names_t), intent(in) :: t
+    integer :: k, j
+    do k = 2, d%n_amplitudes
+      do j = 1, k - 1
+        if (d%amplitudes(j)%name == d%amplitudes(k)%name) then
+          call input_error(d%amplitudes(k)%where, '*AMPLITUDE: '// &
+              trim(d%amplitudes(k)%name)//' is defined twice (first at '// &
+              trim(d%amplitudes(j)%where)//')')
+          exit
+        end if
+      end do
+    end do
+    ! the data lines of one card are consecutive records: each card is checked once
+    do k = 1, d%n_boundaries
+      if (k > 1) then
+        if (d%boundaries(k)%card_where == d%boundaries(k - 1)%card_where) cycle
+      end if
+      call need_amplitude(d, d%boundaries(k)%amplitude, d%boundaries(k)%card_where, &
+          '*BOUNDARY')
+    end do
+    do k = 1, d%n_cloads
+      if (k == 1) then
+        call need_amplitude(d, d%cloads(k)%amplitude, d%cloads(k)%card_where, '*CLOAD')
+      else if (d%cloads(k)%card_where /= d%cloads(k - 1)%card_where) then
+        call need_amplitude(d, d%cloads(k)%amplitude, d%cloads(k)%card_where, '*CLOAD')
+      end if
+      if (.not. is_id(d%cloads(k)%target)) call need(t, d%cloads(k)%target, NAME_NSET, &
+          'node set', d%cloads(k)%where, '*CLOAD')
+    end do
+    do k = 1, d%n_dloads
+      if (k == 1) then
+        call need_amplitude(d, d%dloads(k)%amplitude, d%dloads(k)%card_where, '*DLOAD')
+      else if (d%dloads(k)%card_where /= d%dloads(k - 1)%card_where) then
+        call need_amplitude(d, d%dloads(k)%amplitude, d%dloads(k)%card_where, '*DLOAD')
+      end if
+      if (d%dloads(k)%kind == DLOAD_PRESSURE) then
+        call need(t, d%dloads(k)%target, NAME_SURFACE, 'surface', d%dloads(k)%where, &
+            '*DLOAD, P')
+      else
+        call need(t, d%dloads(k)%target, ior(NAME_ELSET, NAME_PATCH), 'element set or patch', &
+            d%dloads(k)%where, '*DLOAD, GRAV')
+      end if
+    end do
+  end subroutine check_loads
+
+  !> Reports AMPLITUDE=name of a card (at `where`) when no *AMPLITUDE defines it.
+  subroutine need_amplitude(d, name, where, card)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(in) :: name, where, card
+    integer :: k
+    if (len_trim(name) == 0) return
+    do k = 1, d%n_amplitudes
+      if (d%amplitudes(k)%name == name) return
+    end do
+    call input_error(where, card//': amplitude '//trim(name)//' is used but never '// &
+        'defined (expected an *AMPLITUDE, NAME='//trim(name)//')')
+  end subroutine need_amplitude
 
   !> True when `s` is a node id written as digits.
   pure logical function is_id(s)

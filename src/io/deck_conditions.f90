@@ -1,4 +1,5 @@
-!> Readers of the condition cards (doc/user-guide.md §5): *BOUNDARY (prescribed displacements) and
+!> Readers of the condition cards (doc/user-guide.md §5): *BOUNDARY (prescribed displacements,
+!! or with AMPLITUDE= or TYPE=VELOCITY prescribed motion) and
 !! *INITIAL CONDITIONS, TYPE=VELOCITY. Each data line names a node set or a node id; the
 !! names are resolved by `check_deck` (ictus_io_deck_checks), the nodes by `app/build_model`.
 module ictus_io_deck_conditions
@@ -6,9 +7,10 @@ module ictus_io_deck_conditions
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: str
   use ictus_io_deck_lexer, only: token_t, line_where, split_values, split_fields
-  use ictus_io_deck_types, only: deck_t, boundary_in_t, velocity_in_t
-  use ictus_io_deck_card, only: card_t, reader_t, check_params, get_choice, has_data, &
-      count_ok, tok_int, tok_real, tok_target
+  use ictus_io_deck_types, only: deck_t, boundary_in_t, velocity_in_t, BC_DISPLACEMENT, &
+      BC_VELOCITY
+  use ictus_io_deck_card, only: card_t, reader_t, check_params, get_choice, get_name, &
+      has_data, count_ok, tok_int, tok_real, tok_target, target_dof_value, LINE_STOP, LINE_SKIP
   use ictus_io_deck_grow, only: grow_boundaries, grow_velocities
   implicit none
   private
@@ -16,7 +18,9 @@ module ictus_io_deck_conditions
 
 contains
 
-  !> *BOUNDARY: lines "node set or node id, first dof, last dof[, value]".
+  !> *BOUNDARY [, AMPLITUDE=name] [, TYPE=DISPLACEMENT|VELOCITY]: lines "node set or node
+  !! id, first dof, last dof[, value]"; the value (a displacement or a velocity) times the
+  !! amplitude at time t.
   subroutine read_boundary(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -27,9 +31,14 @@ contains
     type(boundary_in_t) :: b
     type(token_t), allocatable :: toks(:)
     character(len=:), allocatable :: w
-    integer :: i, n
+    integer :: i, n, kind
 
-    call check_params(c, '', '')
+    call check_params(c, 'AMPLITUDE|TYPE', '')
+    call get_name(c, 'AMPLITUDE', .false., b%amplitude)
+    call get_choice(c, 'TYPE', 'DISPLACEMENT|VELOCITY', kind)
+    b%kind = BC_DISPLACEMENT
+    if (kind == 2) b%kind = BC_VELOCITY
+    b%card_where = c%where
     if (c%bad) return
     if (.not. has_data(c, expect)) return
     do i = c%first, c%last
@@ -71,9 +80,8 @@ contains
     character(len=*), parameter :: expect = &
         '*INITIAL CONDITIONS: expected "node set or node id, dof, value"'
     type(velocity_in_t) :: v
-    type(token_t), allocatable :: toks(:)
     character(len=:), allocatable :: w
-    integer :: i, n, kind
+    integer :: i, kind
 
     call check_params(c, 'TYPE', '')
     call get_choice(c, 'TYPE', 'VELOCITY', kind, required=.true.)
@@ -81,16 +89,13 @@ contains
     if (.not. has_data(c, expect)) return
     do i = c%first, c%last
       w = line_where(rd%src, i)
-      call split_values(rd%src%lines(i)%text, toks, n)
-      if (.not. count_ok(n, 3, 3, expect, w)) return
-      if (.not. tok_target(toks, 1, expect, w, v%target)) return
-      if (.not. tok_int(toks, 2, expect, w, v%dof)) return
-      if (.not. tok_real(toks, 3, expect, w, v%value)) return
-      if (v%dof < 1 .or. v%dof > 2) then
-        call input_error(w, '*INITIAL CONDITIONS: dof '//str(v%dof)// &
-            ' outside 1..2 (1 = x, 2 = y)')
+      select case (target_dof_value(rd%src%lines(i)%text, '*INITIAL CONDITIONS', expect, w, &
+          v%target, v%dof, v%value))
+      case (LINE_STOP)
+        return
+      case (LINE_SKIP)
         cycle
-      end if
+      end select
       v%where = w
       call grow_velocities(d%velocities, d%n_velocities + 1)
       d%n_velocities = d%n_velocities + 1

@@ -2,7 +2,8 @@
 !! explicit (for the log, the results file, and the reader's round-trip test).
 !!
 !! Cards come in a fixed order (heading, analysis, materials, nodes, elements, patches,
-!! patch operations, sets, surfaces, conditions, mass, damping, contact, walls, step). Reals
+!! patch operations, sets, surfaces, amplitudes, conditions, loads, mass, damping, contact,
+!! walls, step; the load cards go to the model part wherever the deck had them). Reals
 !! are written with the fewest digits that read back to the identical double. Reading the text
 !! of `deck_echo(deck, full=.true.)` with `read_deck` gives the same records again (locations
 !! apart). Node sets given on *NODE, NSET= are written as *NSET cards; *NSET GENERATE is
@@ -13,7 +14,7 @@ module ictus_io_deck_echo
   use ictus_io_deck_types, only: deck_t, set_in_t, material_in_t, ANALYSIS_PLANE_STRESS, &
       etype_name, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
-      OP_ELEVATE, CONTACT_NODE_TO_SEGMENT
+      OP_ELEVATE, CONTACT_NODE_TO_SEGMENT, BC_VELOCITY, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP
   use ictus_solver_model, only: NVAR, VAR_NAMES
   implicit none
   private
@@ -266,13 +267,24 @@ contains
     integer :: k
     character(len=:), allocatable :: line
 
-    if (d%n_boundaries > 0) call put(t, '*BOUNDARY')
+    call echo_amplitudes(d, t)
     do k = 1, d%n_boundaries
       associate (b => d%boundaries(k))
+        ! a new card where AMPLITUDE= or TYPE= changes (a deck without them: one *BOUNDARY)
+        line = '*BOUNDARY'
+        if (len_trim(b%amplitude) > 0) line = line//', AMPLITUDE='//trim(b%amplitude)
+        if (b%kind == BC_VELOCITY) line = line//', TYPE=VELOCITY'
+        if (k == 1) then
+          call put(t, line)
+        else if (d%boundaries(k - 1)%amplitude /= b%amplitude .or. &
+            d%boundaries(k - 1)%kind /= b%kind) then
+          call put(t, line)
+        end if
         call put(t, trim(b%target)//', '//str(b%first_dof)//', '//str(b%last_dof)//', '// &
             real_text(b%value))
       end associate
     end do
+    call echo_loads(d, t)
     if (d%n_velocities > 0) call put(t, '*INITIAL CONDITIONS, TYPE=VELOCITY')
     do k = 1, d%n_velocities
       associate (v => d%velocities(k))
@@ -317,6 +329,64 @@ contains
       end associate
     end do
   end subroutine echo_conditions
+
+  !> *AMPLITUDE cards, one "time, value" pair per line.
+  subroutine echo_amplitudes(d, t)
+    type(deck_t), intent(in) :: d
+    type(text_t), intent(inout) :: t
+    integer :: k, j
+    do k = 1, d%n_amplitudes
+      associate (a => d%amplitudes(k))
+        call put(t, '*AMPLITUDE, NAME='//trim(a%name)//', DEFINITION='// &
+            trim(merge('SMOOTH STEP', 'TABULAR    ', a%definition == AMP_DEF_SMOOTH_STEP)))
+        do j = 1, size(a%t)
+          call put(t, real_text(a%t(j))//', '//real_text(a%a(j)))
+        end do
+      end associate
+    end do
+  end subroutine echo_amplitudes
+
+  !> *CLOAD and *DLOAD cards, a new card where AMPLITUDE= changes.
+  subroutine echo_loads(d, t)
+    type(deck_t), intent(in) :: d
+    type(text_t), intent(inout) :: t
+    integer :: k
+    character(len=:), allocatable :: line
+    do k = 1, d%n_cloads
+      associate (l => d%cloads(k))
+        if (k == 1) then
+          call put(t, '*CLOAD'//amp_param(l%amplitude))
+        else if (d%cloads(k - 1)%amplitude /= l%amplitude) then
+          call put(t, '*CLOAD'//amp_param(l%amplitude))
+        end if
+        call put(t, trim(l%target)//', '//str(l%dof)//', '//real_text(l%value))
+      end associate
+    end do
+    do k = 1, d%n_dloads
+      associate (l => d%dloads(k))
+        if (k == 1) then
+          call put(t, '*DLOAD'//amp_param(l%amplitude))
+        else if (d%dloads(k - 1)%amplitude /= l%amplitude) then
+          call put(t, '*DLOAD'//amp_param(l%amplitude))
+        end if
+        if (l%kind == DLOAD_PRESSURE) then
+          line = trim(l%target)//', P, '//real_text(l%value)
+        else
+          line = trim(l%target)//', GRAV, '//real_text(l%value)//', '//real_text(l%dir(1))// &
+              ', '//real_text(l%dir(2))
+        end if
+        call put(t, line)
+      end associate
+    end do
+  end subroutine echo_loads
+
+  !> ", AMPLITUDE=name" or ''.
+  pure function amp_param(name) result(r)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: r
+    r = ''
+    if (len_trim(name) > 0) r = ', AMPLITUDE='//trim(name)
+  end function amp_param
 
   !> ", ELSET=x" or ", PATCH=x" or ''.
   pure function body(elset, patch) result(r)

@@ -11,6 +11,7 @@
 !!    * ictus_io_deck_patch: *PATCH, *KNOTS, *CONTROL POINTS, *ELEVATE, *REFINE;
 !!    * ictus_io_deck_material: *MATERIAL, *ELASTIC, *DENSITY, *MASS, *DAMPING;
 !!    * ictus_io_deck_conditions: *BOUNDARY, *INITIAL CONDITIONS;
+!!    * ictus_io_deck_loads: *AMPLITUDE, *CLOAD, *DLOAD (in the model part or the step);
 !!    * ictus_io_deck_contact: *CONTACT PAIR, *RIGID WALL;
 !!    * ictus_io_deck_step: *STEP, *DYNAMIC, *OUTPUT, *RESTART, *END STEP;
 !!    * ictus_io_deck_interop: *SOLID SECTION, and the Abaqus cards refused by name.
@@ -34,6 +35,7 @@ module ictus_io_deck_reader
   use ictus_io_deck_material, only: read_material, read_elastic, read_density, read_mass, &
       read_damping, read_hyperelastic, read_plastic
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
+  use ictus_io_deck_loads, only: read_amplitude, read_cload, read_dload
   use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall
   use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop, &
       resolve_twins
@@ -127,8 +129,9 @@ contains
     deck%title = ''
     allocate(deck%materials(0), deck%node_ids(0), deck%node_x(2, 0), deck%node_where(0), &
         deck%blocks(0), deck%sets(0), deck%surfaces(0), deck%boundaries(0), &
-        deck%velocities(0), deck%masses(0), deck%dampings(0), deck%patches(0), &
-        deck%patch_ops(0), deck%pairs(0), deck%walls(0), deck%edges(0), deck%sections(0))
+        deck%velocities(0), deck%amplitudes(0), deck%cloads(0), deck%dloads(0), &
+        deck%masses(0), deck%dampings(0), deck%patches(0), deck%patch_ops(0), &
+        deck%pairs(0), deck%walls(0), deck%edges(0), deck%sections(0))
   end subroutine init_deck
 
   !> Closes the step, trims the arrays to their counts and runs the whole-deck checks.
@@ -153,6 +156,9 @@ contains
     deck%surfaces = deck%surfaces(1:deck%n_surfaces)
     deck%boundaries = deck%boundaries(1:deck%n_boundaries)
     deck%velocities = deck%velocities(1:deck%n_velocities)
+    deck%amplitudes = deck%amplitudes(1:deck%n_amplitudes)
+    deck%cloads = deck%cloads(1:deck%n_cloads)
+    deck%dloads = deck%dloads(1:deck%n_dloads)
     deck%masses = deck%masses(1:deck%n_masses)
     deck%dampings = deck%dampings(1:deck%n_dampings)
     deck%patches = deck%patches(1:deck%n_patches)
@@ -200,9 +206,11 @@ contains
           '*END STEP)')
       return
     end if
-    if (rd%in_step .and. .not. step_card .and. is_known_card(c%kw%name)) then
+    if (rd%in_step .and. .not. step_card .and. is_known_card(c%kw%name) .and. &
+        .not. load_card(c%kw%name)) then
       call input_error(c%where, c%label//': model card inside *STEP (expected *DYNAMIC, '// &
-          '*OUTPUT, *RESTART or *END STEP; put model cards before *STEP)')
+          '*OUTPUT, *RESTART, *END STEP or the load cards *AMPLITUDE, *BOUNDARY, *CLOAD, '// &
+          '*DLOAD; put model cards before *STEP)')
       return
     end if
 
@@ -239,6 +247,12 @@ contains
       call read_surface(c, rd, d)
     case ('BOUNDARY')
       call read_boundary(c, rd, d)
+    case ('AMPLITUDE')
+      call read_amplitude(c, rd, d)
+    case ('CLOAD')
+      call read_cload(c, rd, d)
+    case ('DLOAD')
+      call read_dload(c, rd, d)
     case ('INITIAL CONDITIONS')
       call read_initial_conditions(c, rd, d)
     case ('CONTACT PAIR')
@@ -280,11 +294,24 @@ contains
         'NODE', 'ELEMENT', &
         'PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE', 'NSET', 'ELSET', 'SURFACE', &
         'BOUNDARY', 'INITIAL CONDITIONS', 'CONTACT PAIR', 'RIGID WALL', 'DAMPING', 'MASS', &
-        'SOLID SECTION', 'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')
+        'SOLID SECTION', 'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP', 'AMPLITUDE', &
+        'CLOAD', 'DLOAD')
       is_known_card = .true.
     case default
       is_known_card = .false.
     end select
   end function is_known_card
+
+  !> True for the cards that may stand in the model part and inside the step (Abaqus puts
+  !! loads in the step; with one step both mean the same).
+  pure logical function load_card(name)
+    character(len=*), intent(in) :: name
+    select case (name)
+    case ('AMPLITUDE', 'BOUNDARY', 'CLOAD', 'DLOAD')
+      load_card = .true.
+    case default
+      load_card = .false.
+    end select
+  end function load_card
 
 end module ictus_io_deck_reader

@@ -18,6 +18,8 @@ module ictus_io_deck_types
   public :: deck_t, material_in_t, element_block_in_t, set_in_t, surface_in_t, &
       boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
       step_in_t, out_set_in_t, section_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
+      amplitude_in_t, cload_in_t, dload_in_t, DLOAD_PRESSURE, DLOAD_GRAV, &
+      AMP_DEF_TABULAR, AMP_DEF_SMOOTH_STEP, BC_DISPLACEMENT, BC_VELOCITY, &
       ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
       ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
       SET_NODE, SET_ELEMENT, &
@@ -36,6 +38,10 @@ module ictus_io_deck_types
   integer, parameter :: SURF_ELEMENT = 1, SURF_PATCH = 2
   integer, parameter :: OP_ELEVATE = 1, OP_REFINE = 2
   integer, parameter :: CONTACT_TWO_HALF_PASS = 1, CONTACT_NODE_TO_SEGMENT = 2
+  !> *DLOAD load types, *AMPLITUDE definitions, *BOUNDARY types.
+  integer, parameter :: DLOAD_PRESSURE = 1, DLOAD_GRAV = 2
+  integer, parameter :: AMP_DEF_TABULAR = 1, AMP_DEF_SMOOTH_STEP = 2
+  integer, parameter :: BC_DISPLACEMENT = 1, BC_VELOCITY = 2
 
   !> *MATERIAL with its *ELASTIC (or *HYPERELASTIC), *PLASTIC and *DENSITY.
   type :: material_in_t
@@ -136,7 +142,42 @@ module ictus_io_deck_types
     integer :: last_dof = 0
     real(dp) :: value = 0.0_dp
     character(len=where_len) :: where = ''
+    !> AMPLITUDE= of the card ('' for none), TYPE= (BC_DISPLACEMENT or BC_VELOCITY) and the
+    !! "file:line" of the card.
+    character(len=str_len) :: amplitude = ''
+    integer :: kind = BC_DISPLACEMENT
+    character(len=where_len) :: card_where = ''
   end type boundary_in_t
+
+  !> *AMPLITUDE: name, definition (AMP_DEF_*), times and values.
+  type :: amplitude_in_t
+    character(len=str_len) :: name = ''
+    integer :: definition = AMP_DEF_TABULAR
+    real(dp), allocatable :: t(:), a(:)
+    character(len=where_len) :: where = ''
+  end type amplitude_in_t
+
+  !> One data line of *CLOAD: a force `value` on dof `dof` of each node of `target`.
+  type :: cload_in_t
+    character(len=str_len) :: target = ''
+    integer :: dof = 0
+    real(dp) :: value = 0.0_dp
+    character(len=str_len) :: amplitude = ''
+    character(len=where_len) :: where = ''
+    character(len=where_len) :: card_where = ''
+  end type cload_in_t
+
+  !> One data line of *DLOAD: pressure `value` on surface `target` (DLOAD_PRESSURE), or the
+  !! body force rho value dir on element set `target` ('' = all elements; DLOAD_GRAV).
+  type :: dload_in_t
+    character(len=str_len) :: target = ''
+    integer :: kind = DLOAD_PRESSURE
+    real(dp) :: value = 0.0_dp
+    real(dp) :: dir(3) = 0.0_dp
+    character(len=str_len) :: amplitude = ''
+    character(len=where_len) :: where = ''
+    character(len=where_len) :: card_where = ''
+  end type dload_in_t
 
   !> One data line of *INITIAL CONDITIONS, TYPE=VELOCITY.
   type :: velocity_in_t
@@ -313,6 +354,12 @@ module ictus_io_deck_types
     type(boundary_in_t), allocatable :: boundaries(:)
     integer :: n_velocities = 0
     type(velocity_in_t), allocatable :: velocities(:)
+    integer :: n_amplitudes = 0
+    type(amplitude_in_t), allocatable :: amplitudes(:)
+    integer :: n_cloads = 0
+    type(cload_in_t), allocatable :: cloads(:)
+    integer :: n_dloads = 0
+    type(dload_in_t), allocatable :: dloads(:)
     integer :: n_masses = 0
     type(mass_in_t), allocatable :: masses(:)
     integer :: n_dampings = 0

@@ -26,6 +26,7 @@ module ictus_io_results
   implicit none
   private
   public :: results_t, results_open, results_history, results_field, results_close, &
+      results_reaction, &
       history_record_t, results_contact, results_reopen, results_flush, results_records, &
       results_element_fields, results_sets, results_want_stress
 
@@ -717,6 +718,23 @@ contains
       end associate
     end do
   end subroutine block_cells
+
+  !> The reaction forces of step `step`, /fields/<step>/reaction (n, 2), when the snapshots
+  !! hold RF (*OUTPUT, FIELD, VARIABLES=...RF): rf (2, :) holds the values of this rank's
+  !! owned nodes `gid` (0 on the dofs that are not constrained).
+  subroutine results_reaction(r, step, rf, gid)
+    type(results_t), intent(inout) :: r
+    integer, intent(in) :: step
+    real(dp), intent(in) :: rf(:,:)
+    integer, intent(in) :: gid(:)
+    integer(hid_t) :: g
+    character(len=8) :: name
+    if (.not. r%vars(VAR_RF)) return
+    write(name, '(i8.8)') step
+    call h5u_group(r%file, 'fields/'//name, g)
+    call h5u_write_rows(g, 'reaction', rf(:, 1:size(gid)), gid, r%nn)
+    call h5u_close_group(g)
+  end subroutine results_reaction
 
   !> Writes the rows `rows` of the (nglobal, 3) dataset `name`: the vectors x (2, :) with a
   !! third component 0.

@@ -23,6 +23,10 @@
 !! lattice directions on one rank the updates inside the solve's last pass (`mass_step`); all
 !! with the bits of the unfused step. Several lumped steps in one sweep over K are the linear
 !! lumped stepper's (ictus_solver_lumped_sweeps).
+!! Loads and prescribed motion (ictus_solver_loads, doc/theory.md §4a) take the plain step:
+!! a = M^-1 (f_ext(t_n) - f_int(u_n)), the prescribed dofs' v_{n+1/2} set after the velocity
+!! update, and the power of the loads and of the reactions of the prescribed dofs added to the
+!! external work. At a record the reaction forces of the constrained dofs are formed (s%rf).
 module ictus_solver_explicit
   use ictus_core_kinds, only: dp
   use ictus_core_memory, only: alloc_stream
@@ -35,6 +39,8 @@ module ictus_solver_explicit
   use ictus_solver_domain, only: domain_t
   use ictus_solver_internal_force, only: force_op_t, force_apply, force_energy, FORCE_ASSEMBLED, &
       force_hist_shape, force_dissipation
+  use ictus_solver_loads, only: loads_t, loads_force, motion_start, motion_velocity, &
+      motion_set_displacement
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, between_steps_t, &
@@ -96,7 +102,14 @@ module ictus_solver_explicit
     !> History variables of the material laws at the quadrature points of this rank's
     !! elements, (nhist, ngp, elements) (empty when no law has history).
     real(dp), allocatable :: hist(:,:,:)
-    !> Reaction forces at the constrained dofs (nd, nlocal), 0 elsewhere.
+    !> Loads and prescribed motion (`loaded`: any on any rank), the external force f_ext(t_n)
+    !! and the applied force f_ext - f_int (2, nlocal; allocated when loaded).
+    logical :: loaded = .false.
+    type(loads_t) :: ld
+    real(dp), allocatable :: fext(:,:), fa(:,:)
+    !> Constrained dofs of the owned nodes (2, nn), and the reaction forces on them at the
+    !! last record (2, nlocal; 0 on the other dofs): R = M a - (f_ext - f_int) - f_damp.
+    logical, allocatable :: fixed(:,:)
     real(dp), allocatable :: rf(:,:)
   end type state_t
 
@@ -105,13 +118,17 @@ contains
   !> Sets u_0 (prescribed displacements), v_0 and the start-up half-step velocity
   !! v_{-1/2} = v_0 - dt/2 a_0 with a_0 = M^-1(-K u_0). Arrays are local (2, nlocal) /
   !! (nlocal). `alpha` are the nodal damping coefficients, `m_pos` the positive diagonal
-  !! masses that weigh the damping work.
-  subroutine state_init(s, fop, mop, dom, u0, v0, alpha, m_pos, dt)
+  !! masses that weigh the damping work. `ld`: the rank's loads and prescribed motion (with
+  !! them a_0 = M^-1(f_ext(0) - f_int(u_0)) and the prescribed dofs start from their
+  !! v_{-1/2}); `fixed`: the constrained dofs (2, >= nn) whose reactions are recorded.
+  subroutine state_init(s, fop, mop, dom, u0, v0, alpha, m_pos, dt, ld, fixed)
     type(state_t), intent(out) :: s
     type(force_op_t), intent(inout) :: fop
     type(mass_op_t), intent(inout) :: mop
     type(domain_t), intent(inout) :: dom
     real(dp), intent(in) :: u0(:,:), v0(:,:), alpha(:), m_pos(:), dt
+    type(loads_t), intent(in), optional :: ld
+    logical, intent(in), optional :: fixed(:,:)
     integer :: nn, nl, nd
     nd = size(u0, 1)
     nn = dom%nowned
@@ -129,7 +146,17 @@ contains
     call alloc_stream(s%mv, nd, nl, 0.0_dp)
     call alloc_stream(s%a, nd, nl, 0.0_dp)
     call alloc_stream(s%u_next, nd, nl, 0.0_dp)
-    allocate(s%rf(nd, nl), source=0.0_dp)
+    call alloc_stream(s%rf, nd, nl, 0.0_dp)
+    allocate(s%fixed(nd, nn), source=.false.)
+    if (present(fixed)) s%fixed = fixed(:, 1:nn)
+    if (present(ld)) then
+      s%ld = ld
+      s%loaded = ld%active
+    end if
+    if (s%loaded) then
+      call alloc_stream(s%fext, nd, nl, 0.0_dp)
+      call alloc_stream(s%fa, nd, nl, 0.0_dp)
+    end if
     s%u = u0
     s%alpha = alpha(1:nn)
     s%m_pos = m_pos(1:nn)
@@ -143,10 +170,28 @@ contains
     end associate
     call force_apply(fop, s%u, s%f, s%hist)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
-    call mass_solve(mop, dom, s%f, s%a, s%ierr)
+    call solve_applied(s, mop, dom)
     s%v = 0.0_dp
     s%v(:, 1:nn) = (v0(:, 1:nn) - 0.5_dp*dt*s%a(:, 1:nn))*mop%free(:, 1:nn)
+    if (s%loaded) call motion_start(s%ld, dt, s%v)
   end subroutine state_init
+
+  !> a = M^-1 (f_ext(t_n) - f_int(u_n)) from s%f = -f_int(u_n): with loads the external force
+  !! at t_n is formed in s%fext and the sum in s%fa; without, s%f is solved as it is.
+  subroutine solve_applied(s, mop, dom)
+    type(state_t), intent(inout) :: s
+    type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
+    integer :: nn
+    nn = s%nn
+    if (s%loaded) then
+      call loads_force(s%ld, s%t, s%ld%x0, s%u, s%fext)
+      s%fa(:, 1:nn) = s%f(:, 1:nn) + s%fext(:, 1:nn)
+      call mass_solve(mop, dom, s%fa, s%a, s%ierr)
+    else
+      call mass_solve(mop, dom, s%f, s%a, s%ierr)
+    end if
+  end subroutine solve_applied
 
   !> First half of a step: internal force at u_n, predictor acceleration and velocity
   !! v_{n+1/2} (before any contact correction). With `record`, also the mean velocity
@@ -162,8 +207,11 @@ contains
     nn = s%nn
     ! the velocity step: (dt_prev + dt)/2, which is dt itself (exactly) while dt stays
     dt = 0.5_dp*(s%dt_prev + s%dt)
-    ! a damped consistent step, and a step after a change of dt, take the unfused path below
-    s%fused = .not. (record .or. (s%damped .and. mop%consistent) .or. s%dt_prev /= s%dt)
+    pw = 0.0_dp
+    ! a damped consistent step, a step with loads and a step after a change of dt take the
+    ! unfused path below
+    s%fused = .not. (record .or. (s%damped .and. mop%consistent) .or. s%loaded .or. &
+        s%dt_prev /= s%dt)
     if (s%fused .and. .not. mop%consistent .and. fop%kind == FORCE_ASSEMBLED) then
       ! the common step in one pass over memory (same operations in the same order as below)
       associate (k => fop%asm%k)
@@ -188,9 +236,9 @@ contains
     s%fused = .false.
     call force_apply(fop, s%u, s%f, s%hist)
     s%f(:, 1:nn) = -s%f(:, 1:nn)
-    call mass_solve(mop, dom, s%f, s%a, s%ierr)
-    ! v_{n-1/2} is needed only for the mean velocity (damping, energies)
-    if (s%damped .or. record) s%v_old(:, 1:nn) = s%v(:, 1:nn)
+    call solve_applied(s, mop, dom)
+    ! v_{n-1/2} is needed only for the mean velocity (damping, energies, loads)
+    if (s%damped .or. record .or. s%loaded) s%v_old(:, 1:nn) = s%v(:, 1:nn)
     if (s%damped) then
       do i = 1, nn
         h = 0.5_dp*s%alpha(i)*dt
@@ -199,7 +247,9 @@ contains
     else
       s%v(:, 1:nn) = s%v(:, 1:nn) + dt*s%a(:, 1:nn)
     end if
-    if (s%damped .or. record) s%v_mid(:, 1:nn) = 0.5_dp*(s%v_old(:, 1:nn) + s%v(:, 1:nn))
+    if (s%loaded) call motion_velocity(s%ld, s%t, s%dt, s%u, s%v)
+    if (s%damped .or. record .or. s%loaded) s%v_mid(:, 1:nn) = 0.5_dp*(s%v_old(:, 1:nn) + &
+        s%v(:, 1:nn))
     if (s%damped) then
       ! power of the damping force -alpha M v at t_n (lumped, node by node), integrated by
       ! the trapezoidal rule: w_acc = work from 0 to t_n
@@ -207,11 +257,82 @@ contains
         s%mv(:, i) = -s%alpha(i)*s%m_pos(i)*s%v_mid(:, i)
       end do
       pw = repro_dot(nn, s%mv, s%v_mid, s%nglobal)
+      if (s%loaded) pw = pw + load_power(s, mop)
+    else if (s%loaded) then
+      pw = load_power(s, mop)
+    end if
+    if (s%damped .or. s%loaded) then
       if (s%step > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt_prev*(s%pw_prev + pw)
       s%pw_prev = pw
     end if
     if (record) call state_energies(s, fop, mop, dom)
+    if (record) call state_reactions(s, mop, dom)
   end subroutine step_predict
+
+  !> Reaction at t_n on prescribed dof d of owned node i (lumped mass m_i):
+  !! R = m_i (v_{n+1/2} - v_{n-1/2})/dt_v - (f_ext - f_int) - f_damp, f_damp = -alpha m v_n,
+  !! with the velocity step dt_v = (dt_prev + dt)/2.
+  !! Needs s%f = -f_int(u_n), s%fext, s%v_old, s%v and s%v_mid of the current step.
+  pure real(dp) function motion_reaction(s, mop, d, i) result(r)
+    type(state_t), intent(in) :: s
+    type(mass_op_t), intent(in) :: mop
+    integer, intent(in) :: d, i
+    r = mop%m_diag(i)*(s%v(d, i) - s%v_old(d, i))/(0.5_dp*(s%dt_prev + s%dt)) - s%f(d, i) - &
+        s%fext(d, i) + &
+        s%alpha(i)*s%m_pos(i)*s%v_mid(d, i)
+  end function motion_reaction
+
+  !> The power at t_n of the loads on every dof, f_ext . v_n, and of the reactions of the
+  !! prescribed dofs, R . v_n (fixed dofs do not move), a reproducible sum over all ranks.
+  real(dp) function load_power(s, mop) result(pw)
+    type(state_t), intent(inout) :: s
+    type(mass_op_t), intent(in) :: mop
+    integer :: i, k, d
+    do i = 1, s%nn
+      s%mv(:, i) = s%fext(:, i)*s%v_mid(:, i)
+    end do
+    do k = 1, s%ld%nmot
+      i = s%ld%mot_node(k)
+      d = s%ld%mot_dof(k)
+      s%mv(d, i) = s%mv(d, i) + motion_reaction(s, mop, d, i)*s%v_mid(d, i)
+    end do
+    pw = repro_sum(2*s%nn, s%mv, 2*s%nglobal)
+  end function load_power
+
+  !> The reaction forces at t_n on the constrained dofs, s%rf = (M a)_c - (f_ext - f_int)_c
+  !! (- f_damp on prescribed dofs), 0 elsewhere: a = 0 on fixed dofs (lumped mass: R =
+  !! f_int - f_ext there; a consistent mass adds M_cf a_f), a_c = (v_{n+1/2} - v_{n-1/2})/dt
+  !! on prescribed ones (lumped mass only). Needs s%f = -f_int(u_n) and s%a of this step.
+  subroutine state_reactions(s, mop, dom)
+    type(state_t), intent(inout) :: s
+    type(mass_op_t), intent(inout) :: mop
+    type(domain_t), intent(inout) :: dom
+    integer :: i, d, k, nn
+    nn = s%nn
+    if (mop%consistent) then
+      s%rf(:, 1:nn) = s%a(:, 1:nn)
+      call halo_exchange(dom%halo, s%rf)
+      call mass_apply(mop, s%rf, s%mv)
+      s%rf(:, nn + 1:) = 0.0_dp
+    end if
+    do i = 1, nn
+      do d = 1, size(s%rf, 1)
+        if (.not. s%fixed(d, i)) then
+          s%rf(d, i) = 0.0_dp
+          cycle
+        end if
+        s%rf(d, i) = -s%f(d, i)
+        if (s%loaded) s%rf(d, i) = s%rf(d, i) - s%fext(d, i)
+        if (mop%consistent) s%rf(d, i) = s%rf(d, i) + s%mv(d, i)
+      end do
+    end do
+    if (.not. s%loaded) return
+    do k = 1, s%ld%nmot
+      i = s%ld%mot_node(k)
+      d = s%ld%mot_dof(k)
+      s%rf(d, i) = motion_reaction(s, mop, d, i)
+    end do
+  end subroutine state_reactions
 
   !> Adds the work of the damping forces from t_{n-1} to t_n to s%w_acc (trapezoidal rule)
   !! with the power at t_n summed from s%pw(:, :, stage), the terms the fused damped step of
@@ -241,6 +362,7 @@ contains
     else
       s%u(:, 1:s%nn) = s%u(:, 1:s%nn) + s%dt*s%v(:, 1:s%nn)
     end if
+    if (s%loaded) call motion_set_displacement(s%ld, s%t + s%dt, s%u)
     call halo_exchange(dom%halo, s%u)
     s%step = s%step + 1
     s%t = s%t + s%dt

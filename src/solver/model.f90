@@ -11,6 +11,7 @@ module ictus_solver_model
   use ictus_geometry_mesh, only: mesh_t
   use ictus_materials_material, only: material_t
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, kinematics_t
+  use ictus_solver_load_spec, only: load_spec_t
   implicit none
   private
   public :: model_t, model_free, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
@@ -76,6 +77,9 @@ module ictus_solver_model
     real(dp), allocatable :: u_fixed(:,:)
     !> Initial velocity (2, nn).
     real(dp), allocatable :: v0(:,:)
+    !> Loads and prescribed motion (*AMPLITUDE, *CLOAD, *DLOAD, *BOUNDARY with AMPLITUDE= or
+    !! TYPE=VELOCITY; their dofs are also `fixed`, with u_fixed = u_p(0)).
+    type(load_spec_t) :: loads
 
     !> NURBS patches as refined, and the global index of each patch's first control point
     !! minus one (control point k of patch p is node patch_offset(p) + k).

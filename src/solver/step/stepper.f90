@@ -28,6 +28,7 @@ module ictus_solver_stepper
       between_steps_t
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
+  use ictus_solver_loads, only: loads_t, loads_init
   implicit none
   private
   public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
@@ -96,6 +97,7 @@ contains
     real(dp), intent(in) :: dt, t_end
     integer, intent(out) :: ierr
     real(dp), allocatable :: alpha(:)
+    type(loads_t) :: ld
     stp%model => model
     stp%dom => dom
     stp%ops => ops
@@ -116,8 +118,13 @@ contains
         '1/1000 of it)')
     allocate(alpha(dom%nlocal), source=0.0_dp)
     where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
+    call loads_init(ld, model, dom)
+    if (ld%active) call log_info('loads: '//str(model%loads%nnodal)//' nodal and body '// &
+        'loads, '//str(model%loads%npress)//' pressures, '//str(model%loads%nmotion)// &
+        ' dofs with prescribed motion; every step takes the plain path (f_ext - f_int, '// &
+        'mass solve), without fused steps or sweeps')
     call state_init(stp%s, stp%fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
-        model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
+        model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt, ld, model%fixed(:, dom%halo%gid))
     if (stp%s%ierr /= 0) stp%failure = 'the consistent-mass solve did not converge at the start'
   end subroutine stepper_init
 
@@ -130,6 +137,8 @@ contains
     integer :: k
     if (stp%fop%kind == FORCE_ASSEMBLED .and. stp%mop%consistent) call log_product(stp%fop)
     if (stp%fop%kind /= FORCE_ASSEMBLED) return
+    ! loads and prescribed motion take the plain step (ictus_solver_explicit)
+    if (stp%s%loaded) return
     ! the contact nodes are touched between the steps of a sweep
     allocate(sync(stp%dom%nowned), source=.false.)
     if (stp%contact%npairs > 0) then

@@ -9,7 +9,8 @@ program test_deck_reader
   use ictus_io_deck_types, only: deck_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
       ETYPE_Q4, ETYPE_Q8, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_ETA0, &
       SURF_ELEMENT, SURF_PATCH, MASS_ALPHA, MASS_HRZ, MASS_ROW_SUM, HRZ_FULL, HRZ_GAUSS2, &
-      OP_ELEVATE, OP_REFINE, CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT
+      OP_ELEVATE, OP_REFINE, CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT, &
+      AMP_DEF_SMOOTH_STEP, AMP_DEF_TABULAR, DLOAD_GRAV, DLOAD_PRESSURE, BC_DISPLACEMENT, BC_VELOCITY
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo, real_text
   use ictus_io_deck_lexer, only: parse_real, parse_int
@@ -33,6 +34,8 @@ program test_deck_reader
   call case_round_trip(t, dir//'/step_corrector.inp', 'roundtrip_corrector.inp')
   call case_output(t, dir//'/step_output.inp')
   call case_round_trip(t, dir//'/step_output.inp', 'roundtrip_output.inp')
+  call case_loads(t, dir//'/loads.inp')
+  call case_round_trip(t, dir//'/loads.inp', 'roundtrip_loads.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
   call case_missing_file(t)
   call t%finish()
@@ -332,6 +335,51 @@ contains
           b%interval == 5.0e-4_dp, 'output: set SQ with the default U, V, RF')
     end associate
   end subroutine case_output
+
+  !> The load cards (format version 2), in the model part and inside the step.
+  subroutine case_loads(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    integer :: n0
+    n0 = error_count()
+    call read_deck(path, d)
+    call t%equal_int(error_count() - n0, 0, 'loads: no errors')
+    call t%equal_int(d%n_amplitudes, 2, 'loads: two amplitudes')
+    if (d%n_amplitudes == 2) then
+      call t%true(d%amplitudes(1)%name == 'RAMP' .and. d%amplitudes(1)%definition == &
+          AMP_DEF_SMOOTH_STEP .and. size(d%amplitudes(1)%t) == 2, &
+          'loads: RAMP, SMOOTH STEP, pairs over two lines')
+      call t%true(d%amplitudes(2)%definition == AMP_DEF_TABULAR .and. &
+          all(d%amplitudes(2)%t == [0.0_dp, 0.1_dp, 0.2_dp]) .and. &
+          all(d%amplitudes(2)%a == [0.0_dp, 1.0_dp, 0.0_dp]), 'loads: PULSE in the step, TABULAR')
+    end if
+    call t%equal_int(d%n_cloads, 2, 'loads: two *CLOAD lines')
+    if (d%n_cloads == 2) call t%true(d%cloads(1)%target == '3' .and. d%cloads(1)%dof == 2 .and. &
+        d%cloads(1)%value == -1.5_dp .and. d%cloads(2)%target == 'LEFT' .and. &
+        d%cloads(2)%amplitude == 'RAMP', 'loads: *CLOAD by node id and by set, AMPLITUDE=')
+    call t%equal_int(d%n_dloads, 3, 'loads: three *DLOAD lines')
+    if (d%n_dloads == 3) then
+      call t%true(d%dloads(1)%kind == DLOAD_GRAV .and. len_trim(d%dloads(1)%target) == 0 .and. &
+          all(d%dloads(1)%dir == [0.0_dp, -2.0_dp, 0.0_dp]) .and. d%dloads(1)%value == 9.81_dp, &
+          'loads: GRAV on the whole model, direction as given')
+      call t%true(d%dloads(2)%kind == DLOAD_PRESSURE .and. d%dloads(2)%target == 'TOP' .and. &
+          d%dloads(2)%value == 4.0_dp .and. d%dloads(2)%amplitude == 'PULSE', &
+          'loads: P on a surface with its amplitude')
+      call t%true(d%dloads(3)%target == 'BODY' .and. d%dloads(3)%dir(1) == 1.0_dp, &
+          'loads: GRAV with gz = 0 given')
+    end if
+    call t%equal_int(d%n_boundaries, 3, 'loads: three *BOUNDARY lines')
+    if (d%n_boundaries == 3) then
+      call t%true(d%boundaries(1)%kind == BC_DISPLACEMENT .and. &
+          len_trim(d%boundaries(1)%amplitude) == 0, 'loads: a version-1 *BOUNDARY line')
+      call t%true(d%boundaries(2)%kind == BC_VELOCITY .and. d%boundaries(2)%amplitude == &
+          'PULSE' .and. d%boundaries(2)%value == 0.5_dp, 'loads: TYPE=VELOCITY in the step')
+      call t%true(d%boundaries(3)%kind == BC_DISPLACEMENT .and. d%boundaries(3)%amplitude == &
+          'RAMP' .and. d%boundaries(3)%last_dof == 2 .and. d%boundaries(3)%value == 0.25_dp, &
+          'loads: TYPE=DISPLACEMENT with an amplitude, empty last dof')
+    end if
+  end subroutine case_loads
 
   !> deck_echo(full) written to a file and read again gives the same deck.
   subroutine case_round_trip(t, path, copy)
