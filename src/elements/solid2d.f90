@@ -6,7 +6,7 @@
 module ictus_elements_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: elem_shape_t
-  use ictus_materials_law, only: law_t, tensor_of, voigt_of
+  use ictus_materials_law, only: law_t, voigt_of
   use ictus_materials_eigen, only: sym_eigen3
   implicit none
   private
@@ -135,8 +135,14 @@ contains
     integer, intent(in) :: nen
     real(dp), intent(in) :: dnx(2, nen), ul(2, nen)
     real(dp) :: grad(3, 3)
+    integer :: a
     grad = 0.0_dp
-    grad(1:2, 1:2) = matmul(ul, transpose(dnx))
+    do a = 1, nen
+      grad(1, 1) = grad(1, 1) + ul(1, a)*dnx(1, a)
+      grad(1, 2) = grad(1, 2) + ul(1, a)*dnx(2, a)
+      grad(2, 1) = grad(2, 1) + ul(2, a)*dnx(1, a)
+      grad(2, 2) = grad(2, 2) + ul(2, a)*dnx(2, a)
+    end do
   end function gradient
 
   !> Internal force of the material law and the stored energy, with the geometry of
@@ -195,9 +201,14 @@ contains
       finv(1, 2) = -grad(1, 2)/detf
       finv(2, 1) = -grad(2, 1)/detf
       s2 = tensor_of2(sig)
-      p = detf*dvol(g)*matmul(s2, transpose(finv))
+      ! P dvol = J sigma F^-T dvol, written out
+      p(1, 1) = detf*dvol(g)*(s2(1, 1)*finv(1, 1) + s2(1, 2)*finv(1, 2))
+      p(1, 2) = detf*dvol(g)*(s2(1, 1)*finv(2, 1) + s2(1, 2)*finv(2, 2))
+      p(2, 1) = detf*dvol(g)*(s2(2, 1)*finv(1, 1) + s2(2, 2)*finv(1, 2))
+      p(2, 2) = detf*dvol(g)*(s2(2, 1)*finv(2, 1) + s2(2, 2)*finv(2, 2))
       do a = 1, nen
-        f(:, a) = f(:, a) + matmul(p, dnx(:, a, g))
+        f(1, a) = f(1, a) + p(1, 1)*dnx(1, a, g) + p(1, 2)*dnx(2, a, g)
+        f(2, a) = f(2, a) + p(2, 1)*dnx(1, a, g) + p(2, 2)*dnx(2, a, g)
       end do
     end do
   end subroutine solid2d_force
@@ -311,9 +322,10 @@ contains
   pure function tensor_of2(v) result(a)
     real(dp), intent(in) :: v(6)
     real(dp) :: a(2, 2)
-    real(dp) :: t(3, 3)
-    t = tensor_of(v)
-    a = t(1:2, 1:2)
+    a(1, 1) = v(1)
+    a(2, 1) = v(4)
+    a(1, 2) = v(4)
+    a(2, 2) = v(2)
   end function tensor_of2
 
   !> Cauchy stress of the material law at the quadrature points of shp.

@@ -162,7 +162,15 @@ contains
   pure function tensor_of(v) result(a)
     real(dp), intent(in) :: v(6)
     real(dp) :: a(3, 3)
-    a = reshape([v(1), v(4), v(6), v(4), v(2), v(5), v(6), v(5), v(3)], [3, 3])
+    a(1, 1) = v(1)
+    a(2, 1) = v(4)
+    a(3, 1) = v(6)
+    a(1, 2) = v(4)
+    a(2, 2) = v(2)
+    a(3, 2) = v(5)
+    a(1, 3) = v(6)
+    a(2, 3) = v(5)
+    a(3, 3) = v(3)
   end function tensor_of
 
   !> Small-strain tensor of a displacement gradient in Voigt order (xx, yy, zz, xy, yz, zx)
