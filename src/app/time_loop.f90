@@ -12,6 +12,7 @@ module ictus_app_time_loop
   use ictus_core_logger, only: log_info, log_verbose
   use ictus_core_strings, only: str
   use ictus_core_timer, only: wall_time
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max
   use ictus_solver_model, only: model_t
@@ -80,13 +81,17 @@ contains
     type(loop_t) :: lp
     integer :: n, n_next, ierr
     real(dp) :: t0
+    type(ticker_t) :: tk
     t0 = wall_time()
     call loop_setup(lp, opt, deck, model, dt)
     call log_info('set-up: processed deck formed in '//str(wall_time() - t0, 3)//' s')
+    call ticker_start(tk, 'stepper and results file')
     call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, ierr)
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
+    call tk%tick(1, 3)
     call open_results(lp, stp, opt, deck, model, dom, ops, contact, cs, dt, omega, n)
+    call tk%tick(2, 3)
     lp%n_start = n
     call stepper_plan(stp)
     call log_info('set-up: stepper and results file ready in '//str(wall_time() - t0, 3)//' s')

@@ -11,6 +11,7 @@ module ictus_io_deck_lexer
   use ictus_core_kinds, only: dp, i8
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: upper, str
+  use ictus_core_ticker, only: ticker_t, ticker_start
   implicit none
   private
   public :: token_t, deck_line_t, deck_source_t, param_t, keyword_t, load_deck, line_where, &
@@ -99,6 +100,7 @@ contains
     character(len=:), allocatable :: buf, where
     integer :: ifile, pos, next, lineno
     logical :: in_include
+    type(ticker_t) :: tk
 
     nlines = 0
     call read_whole_file(path, buf, ok)
@@ -117,7 +119,9 @@ contains
     in_include = .false.
     pos = 1
     lineno = 0
+    call ticker_start(tk, 'deck reading, '//path, stride=65536)
     do while (pos <= len(buf))
+      call tk%tick(pos, len(buf))
       next = index(buf(pos:), achar(10))
       if (next == 0) then
         next = len(buf) + 1

@@ -5,6 +5,7 @@
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
 module ictus_solver_assemble
   use ictus_core_kinds, only: dp
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_elements_types, only: elem_shape_t, TASK_MASS, TASK_STIFFNESS, TASK_JACOBIAN
   use ictus_elements_library, only: element_shape_data, element_routine, element_out_t, &
       element_type_count
@@ -107,6 +108,7 @@ contains
     real(dp) :: mass_e
     integer :: e, k, nen, i, mt, nl, nmine
     integer, allocatable :: nodes(:)
+    type(ticker_t) :: tk
     nl = dom%nlocal
     call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
         model%nen(dom%elem), dom%conn, dom%halo%gid, g)
@@ -116,7 +118,9 @@ contains
     allocate(ops%m_diag(nl), ops%m_pos(nl), ops%c_diag(nl), source=0.0_dp)
     allocate(emass(dom%nelem), source=0.0_dp)
     nmine = 0
+    call ticker_start(tk, 'assembly', stride=1000)
     do k = 1, dom%nelem
+      call tk%tick(k, dom%nelem)
       e = dom%elem(k)
       nen = model%nen(e)
       if (allocated(xl)) then
@@ -216,9 +220,12 @@ contains
     type(element_out_t) :: out
     real(dp) :: detj_min
     integer :: e, nen
+    type(ticker_t) :: tk
     allocate(bad(model%nel), nonfinite(model%nel))
     nbad = 0
+    call ticker_start(tk, 'element check', stride=1000)
     do e = 1, model%nel
+      call tk%tick(e, model%nel)
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call element_routine(TASK_JACOBIAN, model%etype(e), shp, &

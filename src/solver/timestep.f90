@@ -3,6 +3,7 @@
 module ictus_solver_timestep
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ictus_core_kinds, only: dp, i8
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
@@ -46,6 +47,7 @@ contains
     real(dp), allocatable :: q(:,:), q_old(:,:), w(:,:), kq(:,:), mw(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
     integer :: n, j, ierr
+    type(ticker_t) :: tk
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) then
       call lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
       return
@@ -69,7 +71,9 @@ contains
     q(:, 1:n) = q(:, 1:n)/nrm
     q_old = 0.0_dp
     w = 0.0_dp
+    call ticker_start(tk, 'omega_max estimate', unit='iterations')
     do j = 1, max_iter
+      call tk%tick(j - 1, 0)
       iters = j
       ! w = M^-1 K q_j, alpha_j = q_j . K q_j (the M inner product of w and q_j)
       call halo_exchange(dom%halo, q)
@@ -106,6 +110,7 @@ contains
     real(dp), allocatable :: q(:,:), q_old(:,:), z(:,:), w(:,:), kz(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
     integer :: n, j, ierr
+    type(ticker_t) :: tk
     n = mop%nn
     ! z carries ghost values: K reads them
     allocate(q(2, n), q_old(2, n), z(2, mop%nlocal), w(2, n), kz(2, n))
@@ -124,7 +129,9 @@ contains
     q = q/nrm
     z(:, 1:n) = z(:, 1:n)/nrm
     q_old = 0.0_dp
+    call ticker_start(tk, 'omega_max estimate', unit='iterations')
     do j = 1, max_iter
+      call tk%tick(j - 1, 0)
       iters = j
       call halo_exchange(dom%halo, z)
       call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, z, kz)
