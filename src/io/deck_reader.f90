@@ -57,13 +57,15 @@ contains
     logical :: ok
 
     call init_deck(path, deck)
-    call load_deck(path, rd%src)
+    ! one ticker for the whole phase: lines every 10 s across the files and the cards
+    call ticker_start(rd%tk, 'deck reading', stride=1000)
+    call load_deck(path, rd%src, rd%tk)
     if (.not. rd%src%ok) return
     if (rd%src%n_lines == 0) then
       call input_error(path//':1', 'the deck is empty (expected model cards and a *STEP)')
       return
     end if
-    call ticker_start(rd%tk, 'deck reading, cards', stride=1000)
+    rd%tk%name = 'deck reading, cards'
     i = 1
     if (.not. rd%src%lines(1)%is_keyword) then
       call input_error(line_where(rd%src, 1), 'data line "'//shown(rd%src%lines(1)%text)// &

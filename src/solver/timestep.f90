@@ -46,7 +46,7 @@ contains
     integer, intent(in) :: max_iter
     real(dp), allocatable :: q(:,:), q_old(:,:), w(:,:), kq(:,:), mw(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
-    integer :: n, j, ierr
+    integer :: n, j, i, ierr
     type(ticker_t) :: tk
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) then
       call lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
@@ -83,14 +83,22 @@ contains
       ! start the mass solve from alpha q, its value for an eigenvector
       w(:, 1:n) = alpha(j)*q(:, 1:n)
       call mass_solve(mop, dom, kq, w, ierr)
-      w(:, 1:n) = w(:, 1:n) - alpha(j)*q(:, 1:n)
-      if (j > 1) w(:, 1:n) = w(:, 1:n) - beta(j - 1)*q_old
+      ! w - alpha_j q_j - beta_{j-1} q_{j-1} in one pass (the same operations per entry)
+      if (j > 1) then
+        do i = 1, n
+          w(:, i) = (w(:, i) - alpha(j)*q(:, i)) - beta(j - 1)*q_old(:, i)
+        end do
+      else
+        w(:, 1:n) = w(:, 1:n) - alpha(j)*q(:, 1:n)
+      end if
       call halo_exchange(dom%halo, w)
       call mass_apply(mop, w, mw)
       beta(j) = sqrt(max(repro_dot(n, w, mw, mop%nglobal), 0.0_dp))
       if (converged(j, alpha, beta, rtol, max_iter, lam, lam_old)) exit
-      q_old = q(:, 1:n)
-      q(:, 1:n) = w(:, 1:n)/beta(j)
+      do i = 1, n
+        q_old(:, i) = q(:, i)
+        q(:, i) = w(:, i)/beta(j)
+      end do
     end do
     omega = omega_of(lam)
   end subroutine omega_max_power
