@@ -23,17 +23,12 @@ module ictus_parallel_repro
 contains
 
   !> Global sum of x(1:n) over all ranks (nglobal = the total number of terms).
-  !!
-  !! Every level's part is a sum of multiples of the same quantum that stays below 2^53 of
-  !! them, so it is exact in any order and in any grouping: the terms go to two accumulators
-  !! per level (odd and even i, two independent chains for the processor), whose sum is the
-  !! same bits as one chain.
   function repro_sum(n, x, nglobal) result(total)
     integer, intent(in) :: n
     real(dp), intent(in) :: x(n)
     integer, intent(in) :: nglobal
     real(dp) :: total
-    real(dp) :: part(levels), part2(levels), sigma(levels), m, r, r2, q, q2
+    real(dp) :: part(levels), sigma(levels), m, r, q
     integer :: i, k
     m = 0.0_dp
     do i = 1, n
@@ -44,42 +39,26 @@ contains
     if (m == 0.0_dp) return
     call level_boundaries(m, nglobal, sigma)
     part = 0.0_dp
-    part2 = 0.0_dp
-    do i = 1, n - 1, 2
+    do i = 1, n
       r = x(i)
-      r2 = x(i + 1)
       do k = 1, levels
         q = (r + sigma(k)) - sigma(k)
-        q2 = (r2 + sigma(k)) - sigma(k)
         part(k) = part(k) + q
-        part2(k) = part2(k) + q2
         r = r - q
-        r2 = r2 - q2
       end do
     end do
-    if (mod(n, 2) == 1) then
-      r = x(n)
-      do k = 1, levels
-        q = (r + sigma(k)) - sigma(k)
-        part(k) = part(k) + q
-        r = r - q
-      end do
-    end if
-    part = part + part2
     call allreduce_sum(part)
     total = part(1) + (part(2) + part(3))
   end function repro_sum
 
   !> Global dot product sum_i x(:, i) . y(:, i) for i = 1..n on all ranks (2-vectors per node).
-  !! The two components go to accumulators of their own (exact in any grouping, as in
-  !! repro_sum).
   function repro_dot(n, x, y, nglobal) result(total)
     integer, intent(in) :: n
     real(dp), intent(in) :: x(2, n), y(2, n)
     integer, intent(in) :: nglobal
     real(dp) :: total
-    real(dp) :: part(levels), part2(levels), sigma(levels), m, r, r2, q, q2
-    integer :: i, k
+    real(dp) :: part(levels), sigma(levels), m, r, q, t
+    integer :: i, k, c
     m = 0.0_dp
     do i = 1, n
       m = max(m, abs(x(1, i)*y(1, i)), abs(x(2, i)*y(2, i)))
@@ -89,20 +68,17 @@ contains
     if (m == 0.0_dp) return
     call level_boundaries(m, 2*nglobal, sigma)
     part = 0.0_dp
-    part2 = 0.0_dp
     do i = 1, n
-      r = x(1, i)*y(1, i)
-      r2 = x(2, i)*y(2, i)
-      do k = 1, levels
-        q = (r + sigma(k)) - sigma(k)
-        q2 = (r2 + sigma(k)) - sigma(k)
-        part(k) = part(k) + q
-        part2(k) = part2(k) + q2
-        r = r - q
-        r2 = r2 - q2
+      do c = 1, 2
+        t = x(c, i)*y(c, i)
+        r = t
+        do k = 1, levels
+          q = (r + sigma(k)) - sigma(k)
+          part(k) = part(k) + q
+          r = r - q
+        end do
       end do
     end do
-    part = part + part2
     call allreduce_sum(part)
     total = part(1) + (part(2) + part(3))
   end function repro_dot
