@@ -80,8 +80,9 @@ contains
       call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, q, kq)
       kq = kq*mop%free(:, 1:n)
       alpha(j) = repro_dot(n, q, kq, mop%nglobal)
-      ! start the mass solve from alpha q, its value for an eigenvector
-      w(:, 1:n) = alpha(j)*q(:, 1:n)
+      ! start the mass solve from alpha q, its value for an eigenvector (a lumped solve
+      ! sets every entry without a start)
+      if (mop%consistent) w(:, 1:n) = alpha(j)*q(:, 1:n)
       call mass_solve(mop, dom, kq, w, ierr)
       ! w - alpha_j q_j - beta_{j-1} q_{j-1} in one pass (the same operations per entry)
       if (j > 1) then
