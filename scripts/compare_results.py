@@ -38,7 +38,7 @@ import numpy as np
 # differing dataset. ictus writes no wall-clock time, date, host, build information or path
 # into a completed run's results: the root attributes are program, version, format_version,
 # title, analysis, ranks, deck, thickness, omega_max, dt and status (doc/results.md), and `deck`
-# is the processed deck text, without the deck's path. So the list is empty, and every
+# is the processed deck's record (its bulk data in /deck), without the deck's path. So the list is empty, and every
 # attribute is compared.
 #   `version` ("0.1.0", the CMake project version) is the same in any two builds of the same
 #   version; a comparison across a version bump needs --ignore-attr version.

@@ -17,6 +17,7 @@ module ictus_app_build_loads
   use ictus_io_deck_types, only: deck_t, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP, BC_VELOCITY
   use ictus_app_build_model, only: resolve_node_set, resolve_elem_set
   use ictus_app_build_contact, only: build_named_surface
+  use ictus_app_id_map, only: id_map_t, id_map_init
   implicit none
   private
   public :: build_loads
@@ -27,7 +28,10 @@ contains
   subroutine build_loads(deck, model)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
+    type(id_map_t) :: node_map
     integer :: k
+    ! the user ids of the nodes, for the node ids of sets and load lines
+    call id_map_init(node_map, model%node_id)
     associate (ls => model%loads)
       allocate(ls%amps(deck%n_amplitudes))
       do k = 1, deck%n_amplitudes
@@ -40,8 +44,8 @@ contains
         end associate
       end do
     end associate
-    call build_motion(deck, model)
-    call build_nodal(deck, model)
+    call build_motion(deck, model, node_map)
+    call build_nodal(deck, model, node_map)
     call build_pressure(deck, model)
   end subroutine build_loads
 
@@ -59,9 +63,10 @@ contains
 
   !> The prescribed-motion dofs: those whose last *BOUNDARY line has AMPLITUDE= or
   !! TYPE=VELOCITY, in node order.
-  subroutine build_motion(deck, model)
+  subroutine build_motion(deck, model, node_map)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
+    type(id_map_t), intent(in) :: node_map
     integer, allocatable :: last(:,:)
     logical, allocatable :: mask(:)
     integer :: k, d, i, n, ka
@@ -72,7 +77,7 @@ contains
     do k = 1, deck%n_boundaries
       associate (b => deck%boundaries(k))
         mask = .false.
-        call resolve_node_set(deck, model, b%target, b%where, mask, 0)
+        call resolve_node_set(deck, model, node_map, b%target, b%where, mask, 0)
         do d = max(b%first_dof, 1), min(b%last_dof, 2)
           where (mask) last(d, :) = k
         end do
@@ -135,9 +140,10 @@ contains
   end subroutine build_motion
 
   !> *CLOAD lines and *DLOAD, GRAV lines as nodal loads.
-  subroutine build_nodal(deck, model)
+  subroutine build_nodal(deck, model, node_map)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
+    type(id_map_t), intent(in) :: node_map
     logical, allocatable :: mask(:), emask(:)
     integer :: k, n, i
     real(dp) :: dir(2)
@@ -148,7 +154,7 @@ contains
       do k = 1, deck%n_cloads
         associate (c => deck%cloads(k))
           mask = .false.
-          call resolve_node_set(deck, model, c%target, c%where, mask, 0)
+          call resolve_node_set(deck, model, node_map, c%target, c%where, mask, 0)
           if (.not. any(mask)) call warning(c%where, '*CLOAD: set '//trim(c%target)// &
               ' holds no nodes')
           n = n + 1

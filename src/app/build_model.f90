@@ -6,6 +6,7 @@
 !! location through `input_error`; the caller checks `error_count()`.
 module ictus_app_build_model
   use ictus_core_kinds, only: dp, i8
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_core_memory, only: available_memory
   use ictus_core_errors, only: input_error, warning
   use ictus_core_strings, only: str, upper, lower
@@ -55,7 +56,9 @@ contains
     type(deck_t), intent(in) :: deck
     type(model_t), intent(out) :: model
     type(id_map_t) :: node_map
+    type(ticker_t) :: tk
     integer :: nfe
+    call ticker_start(tk, 'model building')
     model%title = ''
     if (allocated(deck%title)) model%title = deck%title
     model%analysis = ANALYSIS_PLANE_STRESS
@@ -64,7 +67,9 @@ contains
     model%thickness = deck%thickness
     call build_materials(deck, model)
     call build_patches(deck, model)
+    call tk%tick(1, 5)
     call build_nodes(deck, model, node_map, nfe)
+    call tk%tick(2, 5)
     ! the internal force first: AUTO dilatation depends on it
     if (deck%has_step) then
       select case (deck%step%internal_force)
@@ -77,7 +82,9 @@ contains
       end select
     end if
     call build_elements(deck, model, node_map)
-    call build_conditions(deck, model)
+    call tk%tick(3, 5)
+    call build_conditions(deck, model, node_map)
+    call tk%tick(4, 5)
     call build_mass_damping(deck, model)
     if (deck%has_step) then
       model%dt = deck%step%dt
@@ -101,7 +108,7 @@ contains
       model%sweep_steps = deck%step%sweep_steps
       model%viz_samples = deck%step%field_samples
       model%restart_every = deck%step%restart_every
-      call build_output(deck, model)
+      call build_output(deck, model, node_map)
     end if
     if (model%nel == 0) call input_error(deck%path, &
         'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')
@@ -403,6 +410,8 @@ contains
     integer, intent(in) :: depth
     integer :: i, j, e, ip, ib, k
     logical :: found
+    type(id_map_t) :: fe_map
+    integer, allocatable :: fe(:)
     found = .false.
     if (depth > 20) then
       call input_error(where, 'set '//trim(name)//' refers to itself (a cycle of set names)')
@@ -415,30 +424,32 @@ contains
     end if
     e = 0
     do ib = 1, deck%n_blocks
-      do k = 1, size(deck%blocks(ib)%ids)
-        e = e + 1
-        if (upper(trim(deck%blocks(ib)%elset)) == upper(trim(name)) .and. &
-            len_trim(deck%blocks(ib)%elset) > 0) then
-          mask(e) = .true.
-          found = .true.
-        end if
-      end do
+      k = size(deck%blocks(ib)%ids)
+      if (upper(trim(deck%blocks(ib)%elset)) == upper(trim(name)) .and. &
+          len_trim(deck%blocks(ib)%elset) > 0 .and. k > 0) then
+        mask(e + 1:e + k) = .true.
+        found = .true.
+      end if
+      e = e + k
     end do
     do i = 1, deck%n_sets
       associate (s => deck%sets(i))
         if (s%kind /= SET_ELEMENT .or. upper(trim(s%name)) /= upper(trim(name))) cycle
         found = .true.
         if (allocated(s%ids)) then
+          ! the FE elements by id (unique: check_deck), a lookup per id instead of a search
+          if (.not. allocated(fe_map%keys)) then
+            fe = pack([(e, e = 1, model%nel)], model%patch == 0)
+            call id_map_init(fe_map, model%elem_id(fe))
+          end if
           do j = 1, size(s%ids)
-            k = 0
-            do e = 1, model%nel
-              if (model%patch(e) == 0 .and. model%elem_id(e) == s%ids(j)) then
-                mask(e) = .true.
-                k = 1
-              end if
-            end do
-            if (k == 0) call input_error(s%where, '*ELSET '//trim(s%name)//': element '// &
-                str(s%ids(j))//' is not defined')
+            k = id_map_find(fe_map, s%ids(j))
+            if (k > 0) then
+              mask(fe(k)) = .true.
+            else
+              call input_error(s%where, '*ELSET '//trim(s%name)//': element '// &
+                  str(s%ids(j))//' is not defined')
+            end if
           end do
         end if
         if (allocated(s%refs)) then
@@ -455,9 +466,10 @@ contains
   !> The output settings of the step: history and field schedules, the field variables (by
   !! default U, V, S, MISES, and PEEQ where a law has plastic history) and the node sets with
   !! a history of their own.
-  subroutine build_output(deck, model)
+  subroutine build_output(deck, model, node_map)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
+    type(id_map_t), intent(in) :: node_map
     logical, allocatable :: mask(:)
     integer :: k, i
     model%history_every = deck%step%history_every
@@ -476,7 +488,7 @@ contains
     do k = 1, model%nout_sets
       associate (o => deck%step%out_sets(k), m => model%out_sets(k))
         mask = .false.
-        call resolve_node_set(deck, model, o%name, o%where, mask, 0)
+        call resolve_node_set(deck, model, node_map, o%name, o%where, mask, 0)
         if (.not. any(mask)) call warning(o%where, '*OUTPUT, HISTORY: set '//trim(o%name)// &
             ' holds no nodes (its means are written as 0)')
         m%name = lower(trim(o%name))
@@ -487,10 +499,12 @@ contains
   end subroutine build_output
 
   !> Nodes of node set `name` (an NSET, an element set's nodes, a patch's control points, or a
-  !! node id written as a number) into `mask` (nn).
-  recursive subroutine resolve_node_set(deck, model, name, where, mask, depth)
+  !! node id written as a number) into `mask` (nn). `node_map` maps the user ids of
+  !! `model%node_id` to their rows.
+  recursive subroutine resolve_node_set(deck, model, node_map, name, where, mask, depth)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
+    type(id_map_t), intent(in) :: node_map
     character(len=*), intent(in) :: name, where
     logical, intent(inout) :: mask(:)
     integer, intent(in) :: depth
@@ -504,7 +518,7 @@ contains
     end if
     read(name, *, iostat=ios) id
     if (ios == 0 .and. verify(trim(name), '0123456789+-') == 0) then
-      call mark_node_id(model, id, where, mask)
+      call mark_node_id(node_map, id, where, mask)
       return
     end if
     found = .false.
@@ -514,12 +528,13 @@ contains
         found = .true.
         if (allocated(s%ids)) then
           do j = 1, size(s%ids)
-            call mark_node_id(model, s%ids(j), s%where, mask)
+            call mark_node_id(node_map, s%ids(j), s%where, mask)
           end do
         end if
         if (allocated(s%refs)) then
           do j = 1, size(s%refs)
-            call resolve_node_set(deck, model, s%refs(j), s%ref_where(j), mask, depth + 1)
+            call resolve_node_set(deck, model, node_map, s%refs(j), s%ref_where(j), mask, &
+                depth + 1)
           end do
         end if
         if (s%side /= SIDE_NONE) then
@@ -564,25 +579,27 @@ contains
     end do
   end function has_elem_set
 
-  subroutine mark_node_id(model, id, where, mask)
-    type(model_t), intent(in) :: model
+  !> Marks the row of node `id` (the first, as the ids are unique), or reports it undefined.
+  !! A lookup in the map, not a search of all nodes: sets of every node stay linear.
+  subroutine mark_node_id(node_map, id, where, mask)
+    type(id_map_t), intent(in) :: node_map
     integer, intent(in) :: id
     character(len=*), intent(in) :: where
     logical, intent(inout) :: mask(:)
     integer :: i
-    do i = 1, model%nn
-      if (model%node_id(i) == id) then
-        mask(i) = .true.
-        return
-      end if
-    end do
+    i = id_map_find(node_map, id)
+    if (i > 0) then
+      mask(i) = .true.
+      return
+    end if
     call input_error(where, 'node '//str(id)//' is not defined')
   end subroutine mark_node_id
 
   !> *BOUNDARY and *INITIAL CONDITIONS.
-  subroutine build_conditions(deck, model)
+  subroutine build_conditions(deck, model, node_map)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
+    type(id_map_t), intent(in) :: node_map
     logical, allocatable :: mask(:)
     integer :: k, d
     allocate(model%fixed(2, model%nn), source=.false.)
@@ -591,7 +608,7 @@ contains
     do k = 1, deck%n_boundaries
       associate (b => deck%boundaries(k))
         mask = .false.
-        call resolve_node_set(deck, model, b%target, b%where, mask, 0)
+        call resolve_node_set(deck, model, node_map, b%target, b%where, mask, 0)
         if (.not. any(mask)) call warning(b%where, '*BOUNDARY: set '//trim(b%target)// &
             ' holds no nodes')
         do d = max(b%first_dof, 1), min(b%last_dof, 2)
@@ -605,7 +622,7 @@ contains
     do k = 1, deck%n_velocities
       associate (v => deck%velocities(k))
         mask = .false.
-        call resolve_node_set(deck, model, v%target, v%where, mask, 0)
+        call resolve_node_set(deck, model, node_map, v%target, v%where, mask, 0)
         if (v%dof >= 1 .and. v%dof <= 2) then
           where (mask) model%v0(v%dof, :) = v%value
         end if

@@ -11,6 +11,7 @@ module ictus_app_driver
   use ictus_core_logger, only: log_info
   use ictus_core_strings, only: str, join_ids
   use ictus_core_timer, only: wall_time
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_env, only: env_size, allreduce_max, allgather_int, allgatherv_real, &
       env_node_size
   use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
@@ -255,7 +256,9 @@ contains
     logical, allocatable :: nonfinite(:)
     real(dp), allocatable :: all_bad(:)
     integer :: nbj, nbm, k, e, ntot
-    call check_jacobians(model, bad_jac, nbj, nonfinite)
+    type(ticker_t) :: tk
+    call ticker_start(tk, 'element check', stride=1000)
+    call check_jacobians(model, bad_jac, nbj, nonfinite, tk)
     do k = 1, min(nbj, 20)
       e = bad_jac(k)
       if (nonfinite(k)) then
@@ -271,7 +274,7 @@ contains
     if (nbj > 20) call input_error('', str(nbj - 20)//' more elements with a non-positive '// &
         'or non-finite Jacobian determinant')
     if (nbj > 0) return
-    call assemble_operators(model, dom, ops, bad_mass, nbm)
+    call assemble_operators(model, dom, ops, bad_mass, nbm, tk)
     if (.not. ops%total_mass <= huge(1.0_dp)) then
       e = max(mass_overflow_element(model), 1)
       call input_error(element_where(e), 'the total mass is not a finite number from '// &

@@ -12,6 +12,7 @@ module ictus_app_time_loop
   use ictus_core_logger, only: log_info, log_verbose
   use ictus_core_strings, only: str
   use ictus_core_timer, only: wall_time
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or, env_size, allreduce_max
   use ictus_parallel_repro, only: repro_sum
@@ -28,7 +29,8 @@ module ictus_app_time_loop
   use ictus_elements_library, only: etype_name
   use ictus_contact_contact, only: contact_t
   use ictus_io_deck_types, only: deck_t
-  use ictus_io_deck_echo, only: deck_echo
+  use ictus_io_deck_echo, only: deck_echo, record_digest_line
+  use ictus_io_deck_record, only: deck_record_write, deck_record_digest
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
       results_records, results_element_fields, results_sets, results_want_stress, &
@@ -53,6 +55,8 @@ module ictus_app_time_loop
   type :: loop_t
     type(results_t) :: res
     character(len=:), allocatable :: out, ckpt, deck_text, deck_path
+    !> What a checkpoint stores and compares: the record with the digest of its bulk data.
+    character(len=:), allocatable :: ckpt_text
     integer :: nsteps = 0, print_every = 1
     !> When history records and field snapshots are due.
     type(schedule_t) :: history, field
@@ -99,15 +103,19 @@ contains
     type(loop_t) :: lp
     integer :: n, n_next, ierr
     real(dp) :: t0
+    type(ticker_t) :: tk
     t0 = wall_time()
     call loop_setup(lp, opt, deck, model, dt)
     call log_info('set-up: processed deck formed in '//str(wall_time() - t0, 3)//' s')
+    call ticker_start(tk, 'stepper and results file')
     call stepper_init(stp, model, dom, ops, mop, contact, cs, dt, model%t_end, ierr)
     if (ierr /= 0) call fatal('internal force', 'the geometry of element '//str(ierr)// &
         ' cannot be set up (det J <= 0)')
+    call tk%tick(1, 3)
     call set_nodes(lp, model, dom)
     lp%time_based = stp%dt_control .and. (lp%history%every == 0 .or. lp%field%every == 0)
-    call open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
+    call open_results(lp, stp, opt, deck, model, dom, ops, contact, cs, dt, omega, n)
+    call tk%tick(2, 3)
     lp%n_start = n
     call stepper_plan(stp)
     call log_info('set-up: stepper and results file ready in '//str(wall_time() - t0, 3)//' s')
@@ -146,7 +154,8 @@ contains
     lp%out = default_out(opt%deck_path)
     if (allocated(opt%out_path)) lp%out = opt%out_path
     lp%ckpt = checkpoint_path(lp%out)
-    lp%deck_text = deck_echo(deck, .true.)
+    lp%deck_text = deck_echo(deck, .true., record=.true.)
+    lp%ckpt_text = lp%deck_text//record_digest_line(deck_record_digest(deck))
     lp%nsteps = steps_for(model%t_end, dt)
     lp%history = schedule_init(model%history_every, model%history_interval, dt, lp%nsteps)
     if (model%field_every > 0) then
@@ -181,10 +190,11 @@ contains
 
   !> Opens the results file, or for a restart reads the checkpoint into the stepper and cuts
   !! the results file back to it; n: the step the loop starts at.
-  subroutine open_results(lp, stp, opt, model, dom, ops, contact, cs, dt, omega, n)
+  subroutine open_results(lp, stp, opt, deck, model, dom, ops, contact, cs, dt, omega, n)
     type(loop_t), intent(inout) :: lp
     type(stepper_t), intent(inout) :: stp
     type(run_options_t), intent(in) :: opt
+    type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
     type(domain_t), intent(inout) :: dom
     type(operators_t), intent(in) :: ops
@@ -199,13 +209,14 @@ contains
     if (.not. allocated(opt%restart_path)) then
       call results_open(lp%res, lp%out, model, dom, contact, lp%deck_text, env_size(), &
           ops%m_diag, dom%halo%gid(1:dom%nowned), omega, dt)
+      call deck_record_write(lp%res%file, deck)
       call check_failure(lp, stp)
       call log_info('results: '//lp%out)
       return
     end if
     ! continue an interrupted run: state from the checkpoint, results file cut back to it
     stp%failure = ''
-    call checkpoint_read(opt%restart_path, lp%deck_text, dom, stp%s, cs, contact, ck, msg)
+    call checkpoint_read(opt%restart_path, lp%ckpt_text, dom, stp%s, cs, contact, ck, msg)
     if (len(msg) > 0) then
       call input_error(opt%restart_path, msg)
       call log_info('ictus: '//str(error_count())//' problem(s) in the input; nothing was run')
@@ -441,7 +452,7 @@ contains
       ck%field_times = lp%res%field_time
       ck%was_active = stp%was_active
       ck%failures = int(stp%failures)
-      call checkpoint_write(lp%ckpt, lp%deck_text, stp%dom, stp%s, stp%cs, stp%contact, ck)
+      call checkpoint_write(lp%ckpt, lp%ckpt_text, stp%dom, stp%s, stp%cs, stp%contact, ck)
       call log_verbose('checkpoint at step '//str(n)//': '//lp%ckpt)
     end if
     if (.not. stop_now) return

@@ -2,7 +2,8 @@
 !! can continue on any number of ranks and produce the same bits as an uninterrupted one.
 !!
 !! A checkpoint is written to `<path>.tmp` and renamed over `<path>` only when complete, so a
-!! run killed while writing leaves the previous checkpoint intact. It stores the processed deck,
+!! run killed while writing leaves the previous checkpoint intact. It stores the processed deck
+!! (the record of the results file with the digest of its bulk data, `ictus_io_deck_record`),
 !! which a restart compares with its own, so a checkpoint cannot be continued with another deck.
 module ictus_io_checkpoint
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char

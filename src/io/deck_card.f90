@@ -12,6 +12,7 @@
 !!   targets.
 module ictus_io_deck_card
   use ictus_core_kinds, only: dp, str_len
+  use ictus_core_ticker, only: ticker_t
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: upper, str
   use ictus_io_deck_lexer, only: token_t, deck_source_t, keyword_t, line_where, split_values, &
@@ -57,6 +58,9 @@ module ictus_io_deck_card
     integer :: node_cap = 0
     !> SKIP_* bits: kinds of definitions that had errors (see check_deck).
     integer :: broken = 0
+    !> Progress lines of a long read, ticked with the line being read (long data cards
+    !! tick every line too).
+    type(ticker_t) :: tk
   end type reader_t
 
   !> Most values a *NSET GENERATE or *CONTROL POINTS card may produce (guards memory).

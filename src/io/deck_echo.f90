@@ -8,6 +8,11 @@
 !! of `deck_echo(deck, full=.true.)` with `read_deck` gives the same records again (locations
 !! apart). Node sets given on *NODE, NSET= are written as *NSET cards; *NSET GENERATE is
 !! written expanded.
+!!
+!! The record of the results file (`record = .true.`, doc/results.md "The processed deck")
+!! keeps every card and parameter line but puts a marker line "** data: <group>, <n> lines"
+!! in place of the bulk data lines (nodes, elements, control points, the ids of sets), which
+!! go to that group as exact binary data (`ictus_io_deck_record`).
 module ictus_io_deck_echo
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
@@ -18,7 +23,7 @@ module ictus_io_deck_echo
   use ictus_solver_model, only: NVAR, VAR_NAMES
   implicit none
   private
-  public :: deck_echo, real_text
+  public :: deck_echo, real_text, record_path, record_digest_line
 
   !> A growing text (lines joined with newlines).
   type :: text_t
@@ -35,11 +40,18 @@ contains
 
   !> The deck as canonical deck text. With full = .false. the data of *NODE, *ELEMENT,
   !! *CONTROL POINTS and long sets stops after 5 lines with a comment "** ... N more lines".
-  function deck_echo(deck, full) result(text)
+  !! With record = .true. (and full) their data lines are marker lines naming the groups of
+  !! `record_path` instead.
+  function deck_echo(deck, full, record) result(text)
     type(deck_t), intent(in) :: deck
     logical, intent(in) :: full
+    logical, intent(in), optional :: record
     character(len=:), allocatable :: text
     type(text_t) :: t
+    logical :: rec
+
+    rec = .false.
+    if (present(record)) rec = record
 
     allocate(character(len=4096) :: t%s)
     call put(t, '** ictus: processed deck, every default written out')
@@ -52,9 +64,9 @@ contains
     call put(t, '*ANALYSIS, TYPE='//trim(merge('PLANE STRESS', 'PLANE STRAIN', &
         deck%analysis == ANALYSIS_PLANE_STRESS))//', THICKNESS='//real_text(deck%thickness))
     call echo_materials(deck, t)
-    call echo_mesh(deck, full, t)
-    call echo_patches(deck, full, t)
-    call echo_sets(deck, full, t)
+    call echo_mesh(deck, full, rec, t)
+    call echo_patches(deck, full, rec, t)
+    call echo_sets(deck, full, rec, t)
     call echo_conditions(deck, t)
     call echo_step(deck, t)
     text = t%s(1:t%n)
@@ -97,9 +109,9 @@ contains
   end subroutine echo_plastic
 
   !> *NODE and *ELEMENT cards.
-  subroutine echo_mesh(d, full, t)
+  subroutine echo_mesh(d, full, rec, t)
     type(deck_t), intent(in) :: d
-    logical, intent(in) :: full
+    logical, intent(in) :: full, rec
     type(text_t), intent(inout) :: t
     integer :: k, e, a, nshow
     character(len=:), allocatable :: line
@@ -107,11 +119,15 @@ contains
     if (d%n_nodes > 0) then
       call put(t, '*NODE')
       nshow = shown_count(d%n_nodes, full)
-      do k = 1, nshow
-        call put(t, str(d%node_ids(k))//', '//real_text(d%node_x(1, k))//', '// &
-            real_text(d%node_x(2, k)))
-      end do
-      call more(t, d%n_nodes - nshow)
+      if (rec) then
+        call marker(t, record_path('nodes', 1), d%n_nodes)
+      else
+        do k = 1, nshow
+          call put(t, str(d%node_ids(k))//', '//real_text(d%node_x(1, k))//', '// &
+              real_text(d%node_x(2, k)))
+        end do
+        call more(t, d%n_nodes - nshow)
+      end if
     end if
     do k = 1, d%n_blocks
       associate (b => d%blocks(k))
@@ -122,22 +138,26 @@ contains
             b%dilatation == 1))
         call put(t, line)
         nshow = shown_count(size(b%ids), full)
-        do e = 1, nshow
-          line = str(b%ids(e))
-          do a = 1, b%nen
-            line = line//', '//str(b%conn(a, e))
+        if (rec) then
+          call marker(t, record_path('elements', k), size(b%ids))
+        else
+          do e = 1, nshow
+            line = str(b%ids(e))
+            do a = 1, b%nen
+              line = line//', '//str(b%conn(a, e))
+            end do
+            call put(t, line)
           end do
-          call put(t, line)
-        end do
-        call more(t, size(b%ids) - nshow)
+          call more(t, size(b%ids) - nshow)
+        end if
       end associate
     end do
   end subroutine echo_mesh
 
   !> *PATCH with *KNOTS and *CONTROL POINTS, then *ELEVATE / *REFINE in deck order.
-  subroutine echo_patches(d, full, t)
+  subroutine echo_patches(d, full, rec, t)
     type(deck_t), intent(in) :: d
-    logical, intent(in) :: full
+    logical, intent(in) :: full, rec
     type(text_t), intent(inout) :: t
     integer :: k, nshow, ncp
     character(len=:), allocatable :: line
@@ -162,6 +182,11 @@ contains
           call put(t, '*CONTROL POINTS')
           ncp = size(p%cp, 2)
           nshow = shown_count(ncp, full)
+          if (rec) then
+            call marker(t, record_path('control_points', k), ncp)
+            nshow = 0
+            ncp = 0
+          end if
           call put_cp(t, p%cp(:, 1:nshow))
           call more(t, ncp - nshow)
         end if
@@ -190,9 +215,9 @@ contains
   end subroutine put_cp
 
   !> *NSET / *ELSET cards (ids first, then set names) and *SURFACE cards.
-  subroutine echo_sets(d, full, t)
+  subroutine echo_sets(d, full, rec, t)
     type(deck_t), intent(in) :: d
-    logical, intent(in) :: full
+    logical, intent(in) :: full, rec
     type(text_t), intent(inout) :: t
     integer :: k, e
     character(len=:), allocatable :: key
@@ -204,7 +229,7 @@ contains
             trim(s%patch)//', SIDE='//side_name(s%side))
         if (size(s%ids) + size(s%refs) > 0) then
           call put(t, '*'//key//', '//key//'='//trim(s%name))
-          call put_set_list(t, s, full)
+          call put_set_list(t, s, full, rec, k)
         end if
       end associate
     end do
@@ -227,16 +252,22 @@ contains
     end do
   end subroutine echo_sets
 
-  !> The data lines of one set: `per_line` ids, then `per_line` names per line.
-  subroutine put_set_list(t, s, full)
+  !> The data lines of set number `iset`: `per_line` ids, then `per_line` names per line. In
+  !! the record (rec) the lines of ids are one marker line.
+  subroutine put_set_list(t, s, full, rec, iset)
     type(text_t), intent(inout) :: t
     type(set_in_t), intent(in) :: s
-    logical, intent(in) :: full
+    logical, intent(in) :: full, rec
+    integer, intent(in) :: iset
     integer :: k, j, nid, nref, nlines, shown
     character(len=:), allocatable :: line
 
     nid = size(s%ids)
     nref = size(s%refs)
+    if (rec .and. nid > 0) then
+      call marker(t, record_path('sets', iset), (nid + per_line - 1)/per_line)
+      nid = 0
+    end if
     nlines = (nid + per_line - 1)/per_line + (nref + per_line - 1)/per_line
     shown = 0
     do k = 1, nid, per_line
@@ -485,6 +516,37 @@ contains
   end function variables
 
   ! ------------------------------------------------------------------------------------------
+
+  !> The group of the record that holds the bulk data of a card: `what` is 'nodes' (all
+  !! *NODE lines, k = 1), 'elements' (*ELEMENT card k), 'control_points' (patch k) or 'sets'
+  !! (the ids of set k), in the order of `deck_t`.
+  function record_path(what, k) result(path)
+    character(len=*), intent(in) :: what
+    integer, intent(in) :: k
+    character(len=:), allocatable :: path
+    if (what == 'nodes') then
+      path = '/deck/nodes'
+    else
+      path = '/deck/'//what//'/'//str(k)
+    end if
+  end function record_path
+
+  !> The marker line of the record in place of `n` data lines (nothing when n = 0).
+  subroutine marker(t, path, n)
+    type(text_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: n
+    if (n > 0) call put(t, '** data: '//path//', '//str(n)//' line'//trim(merge('s', ' ', n /= 1)))
+  end subroutine marker
+
+  !> The line a checkpoint adds to the record: the digest of the bulk data, so that a
+  !! checkpoint is not continued with a deck whose data differ (the record alone names only
+  !! the groups).
+  function record_digest_line(digest) result(line)
+    character(len=*), intent(in) :: digest
+    character(len=:), allocatable :: line
+    line = '** data digest: '//digest
+  end function record_digest_line
 
   !> Number of data lines to show out of `n`.
   pure integer function shown_count(n, full)

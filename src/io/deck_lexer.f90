@@ -11,6 +11,7 @@ module ictus_io_deck_lexer
   use ictus_core_kinds, only: dp, i8
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: upper, str
+  use ictus_core_ticker, only: ticker_t, ticker_start
   implicit none
   private
   public :: token_t, deck_line_t, deck_source_t, param_t, keyword_t, load_deck, line_where, &
@@ -68,14 +69,22 @@ module ictus_io_deck_lexer
 contains
 
   !> Reads the deck `path` and all files it includes into `src`. Problems (missing file,
-  !! include cycle, bad *INCLUDE card) are reported with `input_error`.
-  subroutine load_deck(path, src)
+  !! include cycle, bad *INCLUDE card) are reported with `input_error`. `tk`: the ticker of
+  !! the reading phase, ticked with the position in each file (a ticker of its own if absent).
+  subroutine load_deck(path, src, tk)
     character(len=*), intent(in) :: path
     type(deck_source_t), intent(out) :: src
+    type(ticker_t), intent(inout), optional :: tk
     type(token_t) :: stack(max_include_depth)
+    type(ticker_t) :: own
     integer :: nlines
     allocate(src%lines(1024), src%files(0))
-    call load_file(path, '', src, stack, 0, src%ok, nlines)
+    if (present(tk)) then
+      call load_file(path, '', src, stack, 0, src%ok, nlines, tk)
+    else
+      call ticker_start(own, 'deck reading')
+      call load_file(path, '', src, stack, 0, src%ok, nlines, own)
+    end if
     src%main_last_line = nlines
   end subroutine load_deck
 
@@ -89,13 +98,14 @@ contains
 
   !> Reads one file (recursively its includes). `from` is the "file:line" of the *INCLUDE card
   !! ('' for the main deck); `depth` the number of files on `stack`.
-  recursive subroutine load_file(path, from, src, stack, depth, ok, nlines)
+  recursive subroutine load_file(path, from, src, stack, depth, ok, nlines, tk)
     character(len=*), intent(in) :: path, from
     type(deck_source_t), intent(inout) :: src
     type(token_t), intent(inout) :: stack(:)
     integer, intent(in) :: depth
     logical, intent(out) :: ok
     integer, intent(out) :: nlines
+    type(ticker_t), intent(inout) :: tk
     character(len=:), allocatable :: buf, where
     integer :: ifile, pos, next, lineno
     logical :: in_include
@@ -117,7 +127,9 @@ contains
     in_include = .false.
     pos = 1
     lineno = 0
+    tk%name = 'deck reading, '//path
     do while (pos <= len(buf))
+      call tk%tick(pos, len(buf))
       next = index(buf(pos:), achar(10))
       if (next == 0) then
         next = len(buf) + 1
@@ -126,7 +138,7 @@ contains
       end if
       lineno = lineno + 1
       where = path//':'//str(lineno)
-      call add_line(buf(pos:next - 1), ifile, lineno, where, src, stack, depth + 1, &
+      call add_line(buf(pos:next - 1), ifile, lineno, where, src, stack, depth + 1, tk, &
           in_include)
       pos = next + 1
     end do
@@ -136,11 +148,12 @@ contains
   !> Cleans one physical line and appends it to `src` (or expands it when it is *INCLUDE).
   !! `in_include` is true while the lines after an *INCLUDE card are read (they must be
   !! keyword lines).
-  recursive subroutine add_line(raw, ifile, lineno, where, src, stack, depth, in_include)
+  recursive subroutine add_line(raw, ifile, lineno, where, src, stack, depth, tk, in_include)
     character(len=*), intent(in) :: raw, where
     integer, intent(in) :: ifile, lineno, depth
     type(deck_source_t), intent(inout) :: src
     type(token_t), intent(inout) :: stack(:)
+    type(ticker_t), intent(inout) :: tk
     logical, intent(inout) :: in_include
     character(len=:), allocatable :: text
     type(keyword_t) :: kw
@@ -164,7 +177,8 @@ contains
     if (upper(collapse_blanks(text(2:k - 1))) == 'INCLUDE') then
       call parse_keyword(text, where, kw, ok)
       in_include = .true.
-      if (ok) call include_file(kw, where, src%files(ifile)%s, src, stack, depth)
+      if (ok) call include_file(kw, where, src%files(ifile)%s, src, stack, depth, tk)
+      tk%name = 'deck reading, '//src%files(ifile)%s
       return
     end if
     call push_line(src, deck_line_t(text, ifile, lineno, .true.))
@@ -172,12 +186,13 @@ contains
 
   !> Expands an *INCLUDE card (`where` is its location in file `parent`, `depth` the number
   !! of files open so far).
-  recursive subroutine include_file(kw, where, parent, src, stack, depth)
+  recursive subroutine include_file(kw, where, parent, src, stack, depth, tk)
     type(keyword_t), intent(in) :: kw
     character(len=*), intent(in) :: where, parent
     type(deck_source_t), intent(inout) :: src
     type(token_t), intent(inout) :: stack(:)
     integer, intent(in) :: depth
+    type(ticker_t), intent(inout) :: tk
     character(len=:), allocatable :: name, path, chain
     integer :: k, nlines
     logical :: ok
@@ -215,7 +230,7 @@ contains
           str(size(stack))//' files')
       return
     end if
-    call load_file(path, where, src, stack, depth, ok, nlines)
+    call load_file(path, where, src, stack, depth, ok, nlines, tk)
   end subroutine include_file
 
 

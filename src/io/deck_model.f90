@@ -95,6 +95,7 @@ contains
     call reserve_nodes(rd, d, d%n_nodes + c%last - c%first + 1)
     n0 = d%n_nodes
     do i = c%first, c%last
+      call rd%tk%tick(i, rd%src%n_lines)
       call split_values(rd%src%lines(i)%text, toks, n)
       if (n < 3) then
         call input_error(line_where(rd%src, i), expect//', found '//str(n)//' value'// &
@@ -190,6 +191,7 @@ contains
     allocate(b%ids(c%last - c%first + 1), b%conn(b%nen, c%last - c%first + 1), &
         b%line(c%last - c%first + 1))
     do i = c%first, c%last
+      call rd%tk%tick(i, rd%src%n_lines)
       if (rd%src%lines(i)%file /= file .and. nel > 0) call push_block(d, b, nel)
       file = rd%src%lines(i)%file
       b%file = rd%src%files(file)%s

@@ -24,6 +24,7 @@
 module ictus_io_deck_reader
   use ictus_core_errors, only: input_error, error_count
   use ictus_core_strings, only: str
+  use ictus_core_ticker, only: ticker_start
   use ictus_io_deck_lexer, only: keyword_t, load_deck, line_where, parse_keyword, shown
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_checks, only: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, &
@@ -58,12 +59,15 @@ contains
     logical :: ok
 
     call init_deck(path, deck)
-    call load_deck(path, rd%src)
+    ! one ticker for the whole phase: lines every 10 s across the files and the cards
+    call ticker_start(rd%tk, 'deck reading', stride=1000)
+    call load_deck(path, rd%src, rd%tk)
     if (.not. rd%src%ok) return
     if (rd%src%n_lines == 0) then
       call input_error(path//':1', 'the deck is empty (expected model cards and a *STEP)')
       return
     end if
+    rd%tk%name = 'deck reading, cards'
     i = 1
     if (.not. rd%src%lines(1)%is_keyword) then
       call input_error(line_where(rd%src, 1), 'data line "'//shown(rd%src%lines(1)%text)// &
@@ -79,6 +83,7 @@ contains
         if (rd%src%lines(j)%is_keyword) exit
         j = j + 1
       end do
+      call rd%tk%tick(i, rd%src%n_lines)
       card%where = line_where(rd%src, i)
       card%first = i + 1
       card%last = j - 1

@@ -5,6 +5,7 @@
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
 module ictus_solver_assemble
   use ictus_core_kinds, only: dp
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_elements_types, only: elem_shape_t, TASK_MASS, TASK_STIFFNESS, TASK_JACOBIAN
   use ictus_elements_library, only: element_shape_data, element_routine, element_out_t, &
       element_type_count
@@ -93,12 +94,14 @@ contains
   !! lumped mass is not positive are listed by global index in `bad_mass` (a consistent mass is
   !! checked through its HRZ diagonal, which is positive for any valid element); an infinite
   !! mass (coordinates or a density too large) is listed too.
-  subroutine assemble_operators(model, dom, ops, bad_mass, nbad_mass)
+  subroutine assemble_operators(model, dom, ops, bad_mass, nbad_mass, tk)
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     type(operators_t), intent(out) :: ops
     integer, allocatable, intent(out) :: bad_mass(:)
     integer, intent(out) :: nbad_mass
+    !> The ticker of the caller's phase (progress lines; one of its own if absent).
+    type(ticker_t), intent(inout), optional :: tk
     type(graph_t) :: g
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp, shp2
@@ -107,6 +110,7 @@ contains
     real(dp) :: mass_e
     integer :: e, k, nen, i, mt, nl, nmine
     integer, allocatable :: nodes(:)
+    type(ticker_t) :: tkl
     nl = dom%nlocal
     call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
         model%nen(dom%elem), dom%conn, dom%halo%gid, g)
@@ -116,7 +120,14 @@ contains
     allocate(ops%m_diag(nl), ops%m_pos(nl), ops%c_diag(nl), source=0.0_dp)
     allocate(emass(dom%nelem), source=0.0_dp)
     nmine = 0
+    if (present(tk)) then
+      tkl = tk
+    else
+      call ticker_start(tkl, '', stride=1000)
+    end if
+    tkl%name = 'assembly'
     do k = 1, dom%nelem
+      call tkl%tick(k, dom%nelem)
       e = dom%elem(k)
       nen = model%nen(e)
       if (allocated(xl)) then
@@ -190,6 +201,7 @@ contains
       end associate
       ops%m_diag(nodes) = ops%m_diag(nodes) + ml
     end do
+    if (present(tk)) tk = tkl
     ops%total_mass = repro_sum(nmine, emass, model%nel)
     ! owned nodes that carry elements must have a positive mass
     allocate(bad_mass(dom%nowned))
@@ -206,19 +218,29 @@ contains
   !> Elements (global indices, increasing) with a non-positive or non-finite Jacobian
   !! determinant at a quadrature point; nonfinite(k) tells which of the two bad(k) has. Runs
   !! over the whole model on every rank, so all ranks agree.
-  subroutine check_jacobians(model, bad, nbad, nonfinite)
+  subroutine check_jacobians(model, bad, nbad, nonfinite, tk)
     type(model_t), intent(in) :: model
     integer, allocatable, intent(out) :: bad(:)
     integer, intent(out) :: nbad
     logical, allocatable, intent(out) :: nonfinite(:)
+    !> The ticker of the caller's phase (progress lines; one of its own if absent).
+    type(ticker_t), intent(inout), optional :: tk
     type(shape_cache_t) :: cache
     type(elem_shape_t) :: shp
     type(element_out_t) :: out
     real(dp) :: detj_min
     integer :: e, nen
+    type(ticker_t) :: tkl
     allocate(bad(model%nel), nonfinite(model%nel))
     nbad = 0
+    if (present(tk)) then
+      tkl = tk
+    else
+      call ticker_start(tkl, '', stride=1000)
+    end if
+    tkl%name = 'element check'
     do e = 1, model%nel
+      call tkl%tick(e, model%nel)
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       call element_routine(TASK_JACOBIAN, model%etype(e), shp, &
@@ -230,6 +252,7 @@ contains
         nonfinite(nbad) = .not. abs(detj_min) <= huge(1.0_dp)
       end if
     end do
+    if (present(tk)) tk = tkl
   end subroutine check_jacobians
   !> The first element (global index) at which the running sum of the element masses,
   !! density times area, stops being a finite number; 0 when the total is finite. Used to

@@ -7,6 +7,7 @@
 !! So every row is bit for bit the row a single-rank run computes, and no sum crosses ranks.
 module ictus_solver_domain
   use ictus_core_kinds, only: dp
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_env, only: env_rank, env_size, bcast, allreduce_sum
   use ictus_parallel_partition, only: partition_elements
   use ictus_parallel_halo, only: halo_t, halo_setup
@@ -46,6 +47,7 @@ contains
     class(mesh_t), intent(in) :: model
     integer, intent(out) :: ierr
     integer :: e, a, i, k, nn
+    type(ticker_t) :: tk
     logical, allocatable :: mine(:), needed(:)
     integer, allocatable :: owned(:), ghost(:)
     nn = model%nn
@@ -62,8 +64,10 @@ contains
       if (ierr /= 0) return
     end if
     ! owner = lowest part among the elements of a node (nodes without elements: rank 0)
+    call ticker_start(tk, 'partitioning', stride=10000)
     allocate(dom%owner(nn), source=huge(1))
     do e = 1, model%nel
+      call tk%tick(e, 2*model%nel)
       do a = 1, model%nen(e)
         i = model%conn(a, e)
         dom%owner(i) = min(dom%owner(i), dom%part(e))
@@ -77,6 +81,7 @@ contains
     allocate(dom%elem(model%nel))
     dom%nelem = 0
     do e = 1, model%nel
+      call tk%tick(model%nel + e, 2*model%nel)
       if (any(mine(model%conn(1:model%nen(e), e)))) then
         dom%nelem = dom%nelem + 1
         dom%elem(dom%nelem) = e

@@ -3,6 +3,7 @@
 module ictus_solver_timestep
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ictus_core_kinds, only: dp, i8
+  use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
@@ -45,7 +46,8 @@ contains
     integer, intent(in) :: max_iter
     real(dp), allocatable :: q(:,:), q_old(:,:), w(:,:), kq(:,:), mw(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
-    integer :: n, j, ierr
+    integer :: n, j, i, ierr
+    type(ticker_t) :: tk
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) then
       call lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
       return
@@ -69,24 +71,35 @@ contains
     q(:, 1:n) = q(:, 1:n)/nrm
     q_old = 0.0_dp
     w = 0.0_dp
+    call ticker_start(tk, 'omega_max estimate', unit='iterations')
     do j = 1, max_iter
+      call tk%tick(j - 1, 0)
       iters = j
       ! w = M^-1 K q_j, alpha_j = q_j . K q_j (the M inner product of w and q_j)
       call halo_exchange(dom%halo, q)
       call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, q, kq)
       kq = kq*mop%free(:, 1:n)
       alpha(j) = repro_dot(n, q, kq, mop%nglobal)
-      ! start the mass solve from alpha q, its value for an eigenvector
-      w(:, 1:n) = alpha(j)*q(:, 1:n)
+      ! start the mass solve from alpha q, its value for an eigenvector (a lumped solve
+      ! sets every entry without a start)
+      if (mop%consistent) w(:, 1:n) = alpha(j)*q(:, 1:n)
       call mass_solve(mop, dom, kq, w, ierr)
-      w(:, 1:n) = w(:, 1:n) - alpha(j)*q(:, 1:n)
-      if (j > 1) w(:, 1:n) = w(:, 1:n) - beta(j - 1)*q_old
+      ! w - alpha_j q_j - beta_{j-1} q_{j-1} in one pass (the same operations per entry)
+      if (j > 1) then
+        do i = 1, n
+          w(:, i) = (w(:, i) - alpha(j)*q(:, i)) - beta(j - 1)*q_old(:, i)
+        end do
+      else
+        w(:, 1:n) = w(:, 1:n) - alpha(j)*q(:, 1:n)
+      end if
       call halo_exchange(dom%halo, w)
       call mass_apply(mop, w, mw)
       beta(j) = sqrt(max(repro_dot(n, w, mw, mop%nglobal), 0.0_dp))
       if (converged(j, alpha, beta, rtol, max_iter, lam, lam_old)) exit
-      q_old = q(:, 1:n)
-      q(:, 1:n) = w(:, 1:n)/beta(j)
+      do i = 1, n
+        q_old(:, i) = q(:, i)
+        q(:, i) = w(:, i)/beta(j)
+      end do
     end do
     omega = omega_of(lam)
   end subroutine omega_max_power
@@ -106,6 +119,7 @@ contains
     real(dp), allocatable :: q(:,:), q_old(:,:), z(:,:), w(:,:), kz(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
     integer :: n, j, ierr
+    type(ticker_t) :: tk
     n = mop%nn
     ! z carries ghost values: K reads them
     allocate(q(2, n), q_old(2, n), z(2, mop%nlocal), w(2, n), kz(2, n))
@@ -124,7 +138,9 @@ contains
     q = q/nrm
     z(:, 1:n) = z(:, 1:n)/nrm
     q_old = 0.0_dp
+    call ticker_start(tk, 'omega_max estimate', unit='iterations')
     do j = 1, max_iter
+      call tk%tick(j - 1, 0)
       iters = j
       call halo_exchange(dom%halo, z)
       call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, z, kz)

@@ -129,6 +129,21 @@ def main():
                               extra=["--restart", os.path.join(args.work, "periodic.chk.h5")],
                               expect_status=1)
     chk.true("different deck" in log, "a checkpoint of another deck is refused")
+    # ... also when only its bulk data differ (one control point moved by one ulp): the
+    # checkpoint compares a digest of the data the record keeps in /deck (doc/parallel.md)
+    head, tail = text.split("*CONTROL POINTS\n", 1)
+    first, rest = tail.split("\n", 1)
+    vals = [float(v) for v in first.split(",")]
+    k = next(i for i, v in enumerate(vals) if v != 0.0)
+    vals[k] = float(np.nextafter(vals[k], np.inf))
+    moved_deck = os.path.join(args.work, "moved.inp")
+    with open(moved_deck, "w") as f:
+        f.write(head + "*CONTROL POINTS\n" + ", ".join(repr(v) for v in vals) + "\n" + rest)
+    _, log = vcheck.run_ictus(args, moved_deck, os.path.join(args.work, "periodic.h5"),
+                              extra=["--restart", os.path.join(args.work, "periodic.chk.h5")],
+                              expect_status=1)
+    chk.true("different deck" in log, "a checkpoint of a deck with one control point moved "
+             "by one ulp is refused")
     # a file that is not a checkpoint, and a results path that cannot be written: exit 1
     junk = os.path.join(args.work, "junk.chk.h5")
     with open(junk, "w") as f:

@@ -1,6 +1,7 @@
 !> Tests of the deck reader (ictus_io_deck_reader), its lexer and the deck echo:
 !! good decks read field by field, number parsing, and the echo round trip
-!! (deck_echo(full=.true.) written to a file and read again gives the same records).
+!! (deck_echo(full=.true.) written to a file and read again gives the same records), the
+!! record of the results file (marker lines for the bulk data) and the digest of that data.
 !! Argument 1: the directory of the test decks (tests/unit/io/decks).
 program test_deck_reader
   use ictus_core_kinds, only: dp
@@ -13,6 +14,7 @@ program test_deck_reader
       AMP_DEF_SMOOTH_STEP, AMP_DEF_TABULAR, DLOAD_GRAV, DLOAD_PRESSURE, BC_DISPLACEMENT, BC_VELOCITY
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo, real_text
+  use ictus_io_deck_record, only: deck_record_digest
   use ictus_io_deck_lexer, only: parse_real, parse_int
   implicit none
   type(checker_t) :: t
@@ -37,6 +39,8 @@ program test_deck_reader
   call case_loads(t, dir//'/loads.inp')
   call case_round_trip(t, dir//'/loads.inp', 'roundtrip_loads.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
+  call case_record(t, dir//'/model_fe.inp')
+  call case_record(t, dir//'/patch_halfdisc.inp')
   call case_missing_file(t)
   call t%finish()
 
@@ -417,6 +421,81 @@ contains
         'short echo: analysis card')
     call t%true(index(text, '*DYNAMIC, EXPLICIT, SAFETY=0.8') > 0, 'short echo: dynamic')
   end subroutine case_short_echo
+
+  !> The record: the card lines of the full echo, one marker line per bulk block in place of
+  !! its data lines; the digest of the bulk data sees a change of one bit of one coordinate,
+  !! of one node of one element and of one set id.
+  subroutine case_record(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    character(len=:), allocatable :: full, rec
+    character(len=16) :: h0
+    integer :: k, nmark, nbulk
+    call read_deck(path, d)
+    full = deck_echo(d, .true.)
+    rec = deck_echo(d, .true., record=.true.)
+    call t%equal_int(count_lines(rec, '*'), count_lines(full, '*'), &
+        'record '//path//': every card line of the full echo')
+    nbulk = merge(1, 0, d%n_nodes > 0) + d%n_blocks
+    do k = 1, d%n_patches
+      if (allocated(d%patches(k)%cp)) nbulk = nbulk + 1
+    end do
+    do k = 1, d%n_sets
+      if (size(d%sets(k)%ids) > 0) nbulk = nbulk + 1
+    end do
+    nmark = count_lines(rec, '** data: /deck/')
+    call t%equal_int(nmark, nbulk, 'record '//path//': one marker per bulk block')
+    call t%true(len(rec) < len(full) .and. index(rec, '** ...') == 0, &
+        'record '//path//': shorter than the full echo, nothing cut')
+    if (d%n_nodes > 0) call t%true(index(rec, '*NODE'//achar(10)//'** data: /deck/nodes, '// &
+        str_of(d%n_nodes)//' lines'//achar(10)) > 0, 'record '//path//': the node marker')
+    h0 = deck_record_digest(d)
+    call t%true(deck_record_digest(d) == h0 .and. verify(h0, '0123456789ABCDEF') == 0, &
+        'digest '//path//': the same for the same data, 16 hex digits: '//h0)
+    if (d%n_nodes > 0) then
+      d%node_x(2, 1) = nearest(d%node_x(2, 1), 1.0_dp)
+      call t%true(deck_record_digest(d) /= h0, 'digest '//path//': one ulp of one coordinate')
+      d%node_x(2, 1) = nearest(d%node_x(2, 1), -1.0_dp)
+      call t%true(deck_record_digest(d) == h0, 'digest '//path//': the coordinate restored')
+    end if
+    if (d%n_blocks > 0) then
+      k = d%blocks(1)%conn(1, 1)
+      d%blocks(1)%conn(1, 1) = d%blocks(1)%conn(2, 1)
+      d%blocks(1)%conn(2, 1) = k
+      call t%true(deck_record_digest(d) /= h0, 'digest '//path//': two nodes of an element swapped')
+    end if
+    if (d%n_patches > 0) then
+      d%patches(1)%cp(3, 1) = 2.0_dp*d%patches(1)%cp(3, 1)
+      call t%true(deck_record_digest(d) /= h0, 'digest '//path//': a weight changed')
+    end if
+  end subroutine case_record
+
+  !> Number of lines of `text` that begin with `head` ('*': card lines, not comments).
+  integer function count_lines(text, head) result(n)
+    character(len=*), intent(in) :: text, head
+    integer :: p, q
+    n = 0
+    p = 1
+    do while (p <= len(text))
+      q = index(text(p:), achar(10))
+      if (q == 0) q = len(text) - p + 2
+      if (q - 1 >= len(head)) then
+        if (text(p:p + len(head) - 1) == head) then
+          if (head /= '*' .or. text(p:min(p + 1, len(text))) /= '**') n = n + 1
+        end if
+      end if
+      p = p + q
+    end do
+  end function count_lines
+
+  function str_of(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=12) :: b
+    write(b, '(i0)') i
+    s = trim(b)
+  end function str_of
 
   !> A missing deck file is one error, no crash.
   subroutine case_missing_file(t)
