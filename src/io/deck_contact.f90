@@ -180,6 +180,8 @@ contains
         call card_error(c, 'second *FRICTION for surface interaction '//trim(si%name))
         return
       end if
+      ! given (a bad data line is reported once, not again as a missing *FRICTION)
+      si%mu = 0.0_dp
       if (c%bad) return
       if (.not. one_line(c, rd, expect, i)) return
       if (.not. line_reals(rd, i, 1, expect, v)) return
