@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Coulomb friction (doc/contact.md §4a; the closed forms are in doc/reference.md §3.6).
+"""Coulomb friction (doc/contact.md §4a; the closed forms are in doc/reference.md §3.7).
 
 A block 1 x 0.5 (plane strain, 8 x 4 Q4, E = 1e4, nu = 0.3, rho = 1, mass m = 0.5 per unit
 thickness), pressed by a pressure P = 1 on its top face (N = 1), slides at v0 = 0.6 with
