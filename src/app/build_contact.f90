@@ -14,7 +14,8 @@ module ictus_app_build_contact
   use ictus_contact_surface, only: SEG_LAGRANGE, SEG_BEZIER, surface_init, face_segment, &
       element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
-      contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT
+      contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
+      contact_define_friction
   use ictus_solver_model, only: model_t
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
       CONTACT_NODE_TO_SEGMENT
@@ -81,8 +82,40 @@ contains
       end associate
     end do
     call check_names(deck, c)
+    if (error_count() == n0) call define_friction(deck, c)
     if (error_count() == n0 .and. c%nsurf > 0) call contact_setup(c)
   end subroutine build_contact
+
+  !> Coulomb friction of the pairs and walls with INTERACTION= (mu of its *FRICTION; the
+  !! tangential penalty TANGENTIAL PENALTY=, by default the pair's PENALTY).
+  subroutine define_friction(deck, c)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(inout) :: c
+    integer :: i
+    do i = 1, deck%n_pairs
+      call friction_of(deck, c, i, deck%pairs(i)%interaction, &
+          deck%pairs(i)%tangential_penalty)
+    end do
+    do i = 1, deck%n_walls
+      call friction_of(deck, c, deck%n_pairs + i, deck%walls(i)%interaction, &
+          deck%walls(i)%tangential_penalty)
+    end do
+  end subroutine define_friction
+
+  !> Friction of pair k from the *SURFACE INTERACTION `name` (none when blank).
+  subroutine friction_of(deck, c, k, name, eps_t)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: eps_t
+    integer :: j
+    if (len_trim(name) == 0) return
+    do j = 1, deck%n_interactions
+      if (deck%interactions(j)%name == name) call contact_define_friction(c, k, &
+          deck%interactions(j)%mu, eps_t)
+    end do
+  end subroutine friction_of
 
   !> Pair and wall names must differ (they name groups of the results file).
   subroutine check_names(deck, c)

@@ -306,7 +306,7 @@ contains
     associate (s => stp%s, model => stp%model, dom => stp%dom)
       if (due(lp, stp, lp%history, n)) then
         rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext, &
-            s%e_plastic)
+            s%e_plastic, s%e_friction)
         call results_contact(lp%res, stp%contact)
         if (model%nout_sets > 0) then
           call set_values(lp, stp)
@@ -390,7 +390,8 @@ contains
     type(stepper_t), intent(in) :: stp
     real(dp) :: err
     associate (s => stp%s)
-      lp%e_max = max(lp%e_max, s%e_kin + s%e_strain + s%e_contact + s%e_plastic, &
+      lp%e_max = max(lp%e_max, s%e_kin + s%e_strain + s%e_contact + s%e_plastic + &
+          s%e_friction, &
           abs(total_energy(s)))
       if (lp%energy_warned .or. .not. lp%e_max > 0.0_dp) return
       err = abs(total_energy(s) - lp%e0)
@@ -420,11 +421,13 @@ contains
         'kinematics take a rotation for strain (a spun body grows); use *STEP, NLGEOM=YES')
   end subroutine rotation_guard
 
-  !> kinetic + strain + contact (+ plastic work) - external work at the last record.
+  !> kinetic + strain + contact (+ plastic work + frictional work) - external work at the
+  !! last record.
   pure real(dp) function total_energy(s)
     type(state_t), intent(in) :: s
     total_energy = s%e_kin + s%e_strain + s%e_contact - s%w_ext
     if (s%e_plastic /= 0.0_dp) total_energy = total_energy + s%e_plastic
+    if (s%e_friction /= 0.0_dp) total_energy = total_energy + s%e_friction
   end function total_energy
 
   !> At step n (the state at t_n): a checkpoint when one is due (every RESTART EVERY steps, or
@@ -496,7 +499,7 @@ contains
     type(loop_t), intent(in) :: lp
     type(stepper_t), intent(in) :: stp
     real(dp) :: e1, drift
-    character(len=:), allocatable :: line
+    character(len=:), allocatable :: line, fw
     e1 = total_energy(stp%s)
     ! relative to the energy at the start, or with loads (which may start from rest) to the
     ! larger of it and the work done
@@ -507,11 +510,13 @@ contains
     else
       drift = 0.0_dp
     end if
+    fw = ''
+    if (stp%s%e_friction /= 0.0_dp) fw = ', frictional work '//str(stp%s%e_friction, 6)
     associate (s => stp%s, mop => stp%mop)
       call log_info('energy balance: total at start '//str(lp%e0, 10)//', at end '// &
           str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &
           ', contact '//str(s%e_contact, 6)//', external work '//str(s%w_ext, 6)// &
-          '); drift '//str(drift, 3))
+          fw//'); drift '//str(drift, 3))
       if (stp%failures > 0) call warning('contact', str(int(stp%failures))//' closest-'// &
           'point projections failed during the run (those points were treated as open)')
       line = mass_op_report(mop)

@@ -1,6 +1,7 @@
 !> All contact of a model: surfaces, contact pairs and rigid walls, and the two calls the
 !! time step makes: `contact_forces` (penalty forces on predicted coordinates) and
-!! `contact_stability` (the predictor-corrector penalty stability ratio, doc/contact.md §6).
+!! `contact_stability` (the predictor-corrector penalty stability ratio, doc/contact.md §6);
+!! with Coulomb friction also `contact_commit` at the end of each step (doc/contact.md §4a).
 !!
 !! Set-up: `contact_init(c, nsurf, npairs)`, then `surface_init` on each c%surfaces(i),
 !! `contact_define_pair` / `contact_define_wall` for each c%pairs(k), then `contact_setup(c)`.
@@ -12,7 +13,7 @@ module ictus_contact_contact
       MAX_SEG_NODES
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
-      node_to_segment_forces
+      node_to_segment_forces, pair_commit
   use ictus_contact_wall, only: wall_forces
   use ictus_contact_search, only: search_grid_t
   use ictus_contact_projection, only: projection_t, PROJ_INTERIOR, PROJ_CORNER
@@ -20,7 +21,8 @@ module ictus_contact_contact
   private
   public :: contact_t, contact_init, contact_define_pair, contact_define_wall, contact_setup, &
       contact_forces, contact_stability, contact_failures, contact_free, contact_pair_t, &
-      contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL
+      contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
+      contact_define_friction, contact_commit, pair_stiffness
 
   !> All pairs and walls of a model (walls after the pairs), their surfaces and results.
   type :: contact_t
@@ -34,6 +36,14 @@ module ictus_contact_contact
     integer, allocatable :: node_id(:)
     !> Projection failures in the last contact_forces call (all pairs).
     integer :: failures = 0
+    !> Coulomb friction: whether a pair has it; the committed coordinates (2, nn) from which
+    !! the tangential increments are measured (current on the surface nodes; allocated and
+    !! set to the coordinates of the first contact_forces call, `started`); the frictional
+    !! work of all pairs up to the last commit.
+    logical :: friction = .false.
+    logical :: started = .false.
+    real(dp), allocatable :: x_prev(:,:)
+    real(dp) :: friction_work = 0.0_dp
   end type contact_t
 
 contains
@@ -98,6 +108,51 @@ contains
     c%pairs(k)%wall_normal = n/norm2(n)
   end subroutine contact_define_wall
 
+  !> Gives pair k (defined) Coulomb friction (doc/contact.md §4a): coefficient mu (> 0;
+  !! mu = 0 leaves the pair frictionless) and tangential penalty eps_t (<= 0: the normal
+  !! penalty). Call before contact_setup.
+  subroutine contact_define_friction(c, k, mu, eps_t)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: k
+    real(dp), intent(in) :: mu, eps_t
+    c%pairs(k)%fr%on = mu > 0.0_dp
+    c%pairs(k)%fr%mu = mu
+    c%pairs(k)%fr%eps_t = c%pairs(k)%penalty
+    if (eps_t > 0.0_dp) c%pairs(k)%fr%eps_t = eps_t
+    if (c%pairs(k)%fr%on) c%friction = .true.
+  end subroutine contact_define_friction
+
+  !> The penalty of a pair in the stability ratio: max(eps_N, eps_T) with friction (the
+  !! tangential penalty acts on the tangential direction like eps_N on the normal one,
+  !! doc/contact.md §6), else eps_N.
+  pure real(dp) function pair_stiffness(p)
+    type(contact_pair_t), intent(in) :: p
+    pair_stiffness = p%penalty
+    if (p%fr%on) pair_stiffness = max(p%penalty, p%fr%eps_t)
+  end function pair_stiffness
+
+  !> Accepts the friction state of the last contact_forces call on x (2, nn), the
+  !! coordinates of the accepted step: tangential tractions, frictional work (summed over the
+  !! pairs into c%friction_work) and the committed coordinates of the surface nodes. Nothing
+  !! without friction.
+  subroutine contact_commit(c, nn, x)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: x(2, nn)
+    integer :: k, i
+    if (.not. c%friction) return
+    c%friction_work = 0.0_dp
+    do k = 1, c%npairs
+      call pair_commit(c%pairs(k))
+      c%friction_work = c%friction_work + c%pairs(k)%fr%work
+    end do
+    do k = 1, c%nsurf
+      do i = 1, c%surfaces(k)%nsn
+        c%x_prev(:, c%surfaces(k)%nodes(i)) = x(:, c%surfaces(k)%nodes(i))
+      end do
+    end do
+  end subroutine contact_commit
+
   !> Sizes all work arrays (after surfaces and pairs are defined).
   subroutine contact_setup(c)
     type(contact_t), intent(inout) :: c
@@ -140,22 +195,43 @@ contains
     end do
     energy = 0.0_dp
     c%failures = 0
+    if (c%friction) then
+      ! the first call sets the committed coordinates (the only allocation)
+      if (.not. c%started) then
+        if (allocated(c%x_prev)) deallocate(c%x_prev)
+        allocate(c%x_prev(2, nn), source=x)
+        c%started = .true.
+      end if
+      call all_pairs(c, x, c%x_prev, fc, energy, dm)
+    else
+      call all_pairs(c, x, x, fc, energy, dm)
+    end if
+  end subroutine contact_forces
+
+  !> The forces of every pair (contact_forces), friction increments measured from xprev.
+  subroutine all_pairs(c, x, xprev, fc, energy, dm)
+    type(contact_t), intent(inout) :: c
+    real(dp), intent(in) :: x(:,:), xprev(:,:)
+    real(dp), intent(inout) :: fc(:,:), energy
+    real(dp), intent(inout), optional :: dm(:)
+    integer :: k
     do k = 1, c%npairs
       associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_TWO_HALF_PASS)
-          call two_half_pass_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, dm)
+          call two_half_pass_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, &
+              xprev, dm)
         case (PAIR_NODE_TO_SEGMENT)
           call node_to_segment_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, &
-              dm)
+              xprev, dm)
         case (PAIR_WALL)
-          call wall_forces(p, c%surfaces(p%first), x, fc)
+          call wall_forces(p, c%surfaces(p%first), x, fc, xprev)
         end select
         energy = energy + p%energy
         c%failures = c%failures + p%failures
       end associate
     end do
-  end subroutine contact_forces
+  end subroutine all_pairs
 
   !> Projection failures of the last contact_forces call, over all pairs.
   pure integer function contact_failures(c)
@@ -168,7 +244,8 @@ contains
   !! master's l/m interpolated as sum_A |R_A| l_A/m_A at the node's closest point (the largest
   !! master l/m when the node has no closest point within the search radius); a rigid wall
   !! has only the slave term. Both surfaces of a TWO HALF PASS pair act as slave in turn.
-  !! The estimate asks for r <= 1 (r_s <= 1/2 for identical meshes). A pair with a mass
+  !! The estimate asks for r <= 1 (r_s <= 1/2 for identical meshes). With friction eps is
+  !! max(eps_N, eps_T) (pair_stiffness). A pair with a mass
   !! penalty eps_m > 0 (bipenalty) uses the masses m + 2 eps_m l of its fully active nodes
   !! (the lower bound of the added masses of contact_forces, whose Gershgorin factor is >= 2).
   !! @param c contact; @param nn nodes; @param x coordinates (2, nn); @param m_diag lumped
@@ -187,20 +264,21 @@ contains
       associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_WALL)
-          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), c%surfaces(p%first), &
+          call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
+              c%surfaces(p%first), &
               p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r_max, where)
         case (PAIR_NODE_TO_SEGMENT)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
-          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
+          call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
               dt, r_max, where)
         case default
           call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first, p%curves_first)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
-          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
+          call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
               dt, r_max, where)
-          call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%second), &
+          call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%second), &
               c%surfaces(p%first), p%grid_first, p%curves_first, .true., nn, x, m_diag, dt, &
               r_max, where)
         end select

@@ -8,6 +8,11 @@
 !! * NODE TO SEGMENT: each node (control point) s of the first surface, weighted by
 !!   l_s = int N_s dGamma, against the second: +eps gp l_s n on s, -eps gp l_s R_A n on the
 !!   master nodes A of the closest point.
+!! * Coulomb friction (doc/contact.md §4a), when the pair has mu > 0: each contact point adds
+!!   the tangential traction t tau (tau = (-n_y, n_x), the master's tangent), t from the
+!!   penalty-regularised stick t_trial = t_old - eps_T dg_T and the return to the cone
+!!   |t| <= mu p on slip; dg_T is the point's tangential displacement relative to the master
+!!   since the last committed evaluation (contact_commit).
 module ictus_contact_pair
   use ictus_core_kinds, only: dp, i8, str_len
   use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_bbox, &
@@ -19,10 +24,30 @@ module ictus_contact_pair
   private
   public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
       pair_setup, pair_reset_results, update_grid, closest_point, half_pass, &
-      two_half_pass_forces, node_to_segment_forces
+      two_half_pass_forces, node_to_segment_forces, friction_t, coulomb, pair_commit
 
   !> Pair kinds.
   integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3
+
+  !> Coulomb friction of a pair (doc/contact.md §4a): the coefficient, the tangential
+  !! penalty, the tangential traction of every contact point (committed: of the last
+  !! accepted step; trial: of the last force evaluation), the tangential resultant on the
+  !! first surface, the frictional work of the last evaluation's increment and the
+  !! committed total.
+  type :: friction_t
+    !> On when mu > 0 (then the arrays below are allocated).
+    logical :: on = .false.
+    real(dp) :: mu = 0.0_dp
+    real(dp) :: eps_t = 0.0_dp
+    !> Points: Gauss points of the first surface, then (TWO HALF PASS) of the second; nodes
+    !! of the first surface for NODE TO SEGMENT.
+    integer :: npts = 0
+    real(dp), allocatable :: t_old(:)
+    real(dp), allocatable :: t_new(:)
+    real(dp) :: force(2) = 0.0_dp
+    real(dp) :: dwork = 0.0_dp
+    real(dp) :: work = 0.0_dp
+  end type friction_t
 
   !> One *CONTACT PAIR or *RIGID WALL with its results of the last force evaluation.
   type :: contact_pair_t
@@ -66,6 +91,8 @@ module ictus_contact_pair
     !! grids (nseg each), built with them: the projections evaluate these.
     type(segment_curve_t), allocatable :: curves_first(:), curves_second(:)
     integer, allocatable :: cand(:)
+    !> Coulomb friction (off unless set by contact_define_friction).
+    type(friction_t) :: fr
   end type contact_pair_t
 
 contains
@@ -104,8 +131,59 @@ contains
       allocate(pair%curves_first(0), pair%curves_second(0))
     end if
     allocate(pair%cand(max(ncand, 1)))
+    if (pair%fr%on) then
+      pair%fr%npts = pair%npoints
+      if (pair%kind == PAIR_TWO_HALF_PASS) pair%fr%npts = s1%ngp + s2%ngp
+      if (allocated(pair%fr%t_old)) deallocate(pair%fr%t_old)
+      if (allocated(pair%fr%t_new)) deallocate(pair%fr%t_new)
+      allocate(pair%fr%t_old(pair%fr%npts), pair%fr%t_new(pair%fr%npts), source=0.0_dp)
+    end if
     call pair_reset_results(pair)
   end subroutine pair_setup
+
+  !> Accepts the friction state of the last force evaluation (the end of a step): the trial
+  !! tractions become the committed ones and the increment of frictional work is added.
+  pure subroutine pair_commit(pair)
+    type(contact_pair_t), intent(inout) :: pair
+    if (.not. pair%fr%on) return
+    pair%fr%t_old = pair%fr%t_new
+    pair%fr%work = pair%fr%work + pair%fr%dwork
+  end subroutine pair_commit
+
+  !> Coulomb friction at one contact point (doc/contact.md §4a). Trial (stick) traction
+  !! t_trial = t_old - eps_t dg; kept if |t_trial| <= mu p, else returned to the cone,
+  !! t = mu p sign(t_trial). dw is the frictional work per unit weight of the increment,
+  !! |t| times the slip (|t_trial| - mu p)/eps_t (0 in stick); et the elastic tangential
+  !! energy t^2/(2 eps_t) per unit weight.
+  !! @param t_old committed traction; @param dg tangential relative displacement increment;
+  !! @param p normal pressure (>= 0); @param mu, eps_t coefficient and tangential penalty
+  pure subroutine coulomb(t_old, dg, p, mu, eps_t, t, dw, et)
+    real(dp), intent(in) :: t_old, dg, p, mu, eps_t
+    real(dp), intent(out) :: t, dw, et
+    real(dp) :: tt, lim
+    tt = t_old - eps_t*dg
+    lim = mu*p
+    if (abs(tt) <= lim) then
+      t = tt
+      dw = 0.0_dp
+    else
+      t = sign(lim, tt)
+      dw = lim*(abs(tt) - lim)/eps_t
+    end if
+    et = 0.5_dp*t*t/eps_t
+  end subroutine coulomb
+
+  !> Tangential displacement increment along tau of a point with shape values r(1:n) on
+  !! nodes conn(1:n), x - xprev of its nodes interpolated.
+  pure real(dp) function point_increment(n, r, conn, x, xprev, tau) result(dg)
+    integer, intent(in) :: n, conn(:)
+    real(dp), intent(in) :: r(:), x(:,:), xprev(:,:), tau(2)
+    integer :: a
+    dg = 0.0_dp
+    do a = 1, n
+      dg = dg + r(a)*dot_product(x(:, conn(a)) - xprev(:, conn(a)), tau)
+    end do
+  end function point_increment
 
   !> Zeroes the per-call results of a pair.
   pure subroutine pair_reset_results(pair)
@@ -117,6 +195,8 @@ contains
     pair%active_points = 0
     pair%energy = 0.0_dp
     pair%failures = 0
+    pair%fr%force = 0.0_dp
+    pair%fr%dwork = 0.0_dp
   end subroutine pair_reset_results
 
   !> Rebuilds a search grid over the current bounding boxes of a master surface's segments,
@@ -164,8 +244,12 @@ contains
   !! @param eps_m, dm optional bipenalty: mass penalty and the added nodal masses (nn),
   !! accumulated on the slave nodes: eps_m wJ |R_a| (sum|R_slave| + sum|R_master|), the
   !! absolute row sum of the slave rows of eps_m wJ C^T C, C = [R_slave, -R_master]
+  !! @param fr, off, xprev optional Coulomb friction: the pair's friction state, the offset
+  !! of this half-pass's points in it (0: the first surface, whose tangential resultant goes
+  !! to fr%force) and the committed coordinates (2, nn); the frictional work of the points is
+  !! added to fr%dwork and their elastic tangential energy to `energy`
   pure subroutine half_pass(slave, master, grid, curves, x, eps, cand, fc, force, energy, &
-      pmax, gmax, nact, nfail, xout, pout, eps_m, dm)
+      pmax, gmax, nact, nfail, xout, pout, eps_m, dm, fr, off, xprev)
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
     type(segment_curve_t), intent(in) :: curves(:)
@@ -176,10 +260,16 @@ contains
     real(dp), intent(inout), optional :: xout(:,:), pout(:)
     real(dp), intent(in), optional :: eps_m
     real(dp), intent(inout), optional :: dm(:)
+    type(friction_t), intent(inout), optional :: fr
+    integer, intent(in), optional :: off
+    real(dp), intent(in), optional :: xprev(:,:)
     type(projection_t) :: pr
-    real(dp) :: xq(2), gp, tr(2), wj, sm
+    real(dp) :: xq(2), gp, tr(2), wj, sm, tau(2), dg, tt, dw, et
     real(dp) :: rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
     integer :: q, s, a, g, nf
+    logical :: fric
+    fric = .false.
+    if (present(fr)) fric = fr%on
     do q = 1, slave%ngp
       s = slave%gp_seg(q)
       xq = 0.0_dp
@@ -192,9 +282,24 @@ contains
       if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)
       if (present(xout)) xout(:, q) = xq
       if (present(pout)) pout(q) = eps*gp
+      if (fric) fr%t_new(off + q) = 0.0_dp
       if (gp <= 0.0_dp) cycle
       wj = slave%gp_wj(q)
       tr = eps*gp*pr%normal
+      if (fric) then
+        ! slip of the slave point relative to the master point along the master's tangent
+        tau = [-pr%normal(2), pr%normal(1)]
+        call segment_shape(master, pr%seg, pr%t, rm, dr, ddr)
+        dg = point_increment(slave%nen(s), slave%gp_r(:, q), slave%conn(:, s), x, xprev, &
+            tau) - point_increment(master%nen(pr%seg), rm, master%conn(:, pr%seg), x, &
+            xprev, tau)
+        call coulomb(fr%t_old(off + q), dg, eps*gp, fr%mu, fr%eps_t, tt, dw, et)
+        fr%t_new(off + q) = tt
+        fr%dwork = fr%dwork + dw*wj
+        energy = energy + et*wj
+        tr = tr + tt*tau
+        if (off == 0) fr%force = fr%force + wj*tt*tau
+      end if
       do a = 1, slave%nen(s)
         g = slave%conn(a, s)
         fc(:, g) = fc(:, g) + slave%gp_r(a, q)*wj*tr
@@ -219,11 +324,12 @@ contains
   !! (each half-pass alone carries the whole penalty energy of the interface).
   !! @param pair the pair (results updated); @param s1, s2 its surfaces; @param x (2, nn);
   !! @param fc forces (2, nn), accumulated; @param dm optional bipenalty added nodal masses
-  !! (nn), accumulated when pair%eps_m > 0
-  subroutine two_half_pass_forces(pair, s1, s2, x, fc, dm)
+  !! (nn), accumulated when pair%eps_m > 0; @param xprev committed coordinates (2, nn) of
+  !! the friction increments (not used without friction)
+  subroutine two_half_pass_forces(pair, s1, s2, x, fc, xprev, dm)
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
-    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(in) :: x(:,:), xprev(:,:)
     real(dp), intent(inout) :: fc(:,:)
     real(dp), intent(inout), optional :: dm(:)
     real(dp) :: e1, e2
@@ -232,7 +338,28 @@ contains
     call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
     e1 = 0.0_dp
     e2 = 0.0_dp
-    if (present(dm) .and. pair%eps_m > 0.0_dp) then
+    if (pair%fr%on) then
+      ! each half-pass alone carries the whole interface: the frictional work is the mean
+      if (present(dm) .and. pair%eps_m > 0.0_dp) then
+        call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
+            pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+            pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm, &
+            pair%fr, 0, xprev)
+        call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
+            pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+            pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm, fr=pair%fr, &
+            off=s1%ngp, xprev=xprev)
+      else
+        call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
+            pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
+            pair%active_points, pair%failures, pair%x, pair%pressure, fr=pair%fr, off=0, &
+            xprev=xprev)
+        call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
+            pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
+            pair%active_points, pair%failures, fr=pair%fr, off=s1%ngp, xprev=xprev)
+      end if
+      pair%fr%dwork = 0.5_dp*pair%fr%dwork
+    else if (present(dm) .and. pair%eps_m > 0.0_dp) then
       call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
           pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm)
@@ -256,15 +383,17 @@ contains
   !! @param fc forces (2, nn), accumulated; @param dm optional bipenalty added nodal masses
   !! (nn), accumulated when pair%eps_m > 0: eps_m l_s (1 + sum|R|) on the slave node and
   !! eps_m l_s |R_A| (1 + sum|R|) on master node A (the rows of eps_m l_s C^T C,
-  !! C = [1, -R_A], made diagonal by their absolute row sums)
-  subroutine node_to_segment_forces(pair, s1, s2, x, fc, dm)
+  !! C = [1, -R_A], made diagonal by their absolute row sums); @param xprev committed
+  !! coordinates (2, nn) of the friction increments (not used without friction)
+  subroutine node_to_segment_forces(pair, s1, s2, x, fc, xprev, dm)
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
-    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(in) :: x(:,:), xprev(:,:)
     real(dp), intent(inout) :: fc(:,:)
     real(dp), intent(inout), optional :: dm(:)
     type(projection_t) :: pr
     real(dp) :: xs(2), gp, fs(2), r(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), sm
+    real(dp) :: tau(2), dg, tt, dw, et
     integer :: k, g, a, nf
     call pair_reset_results(pair)
     call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
@@ -277,10 +406,24 @@ contains
       if (pr%status == PROJ_INTERIOR .or. pr%status == PROJ_CORNER) gp = max(0.0_dp, -pr%d)
       pair%x(:, k) = xs
       pair%pressure(k) = pair%penalty*gp
+      if (pair%fr%on) pair%fr%t_new(k) = 0.0_dp
       if (gp <= 0.0_dp) cycle
       fs = pair%penalty*gp*s1%ell(k)*pr%normal
-      fc(:, g) = fc(:, g) + fs
       call segment_shape(s2, pr%seg, pr%t, r, dr, ddr)
+      if (pair%fr%on) then
+        ! slip of the slave node relative to the master point along the master's tangent
+        tau = [-pr%normal(2), pr%normal(1)]
+        dg = dot_product(x(:, g) - xprev(:, g), tau) - point_increment(s2%nen(pr%seg), r, &
+            s2%conn(:, pr%seg), x, xprev, tau)
+        call coulomb(pair%fr%t_old(k), dg, pair%penalty*gp, pair%fr%mu, pair%fr%eps_t, tt, &
+            dw, et)
+        pair%fr%t_new(k) = tt
+        pair%fr%dwork = pair%fr%dwork + dw*s1%ell(k)
+        pair%energy = pair%energy + et*s1%ell(k)
+        fs = fs + tt*s1%ell(k)*tau
+        pair%fr%force = pair%fr%force + tt*s1%ell(k)*tau
+      end if
+      fc(:, g) = fc(:, g) + fs
       do a = 1, s2%nen(pr%seg)
         fc(:, s2%conn(a, pr%seg)) = fc(:, s2%conn(a, pr%seg)) - r(a)*fs
       end do

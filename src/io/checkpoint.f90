@@ -10,7 +10,7 @@ module ictus_io_checkpoint
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
   use ictus_parallel_env, only: env_is_root, barrier, bcast
-  use ictus_contact_contact, only: contact_t
+  use ictus_contact_contact, only: contact_t, contact_pair_t
   use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_explicit, only: state_t
   use ictus_solver_contact_step, only: contact_step_t
@@ -94,9 +94,16 @@ contains
           call h5u_write(g, 'x', p%x(:, 1:p%npoints))
           call h5u_write(g, 'pressure', p%pressure(1:p%npoints))
         end if
+        if (p%fr%on) call write_friction(g, p)
         call h5u_close_group(g)
       end associate
     end do
+    if (contact%friction) then
+      ! the committed coordinates of the friction increments (replicated on every rank)
+      call h5u_attr_real(f, 'e_friction', s%e_friction)
+      call h5u_attr_int(f, 'friction_started', merge(1, 0, contact%started))
+      if (contact%started) call h5u_write(f, 'contact_x_prev', contact%x_prev)
+    end if
     call h5u_close_file(f)
     call barrier()
     if (env_is_root()) st = c_rename(path//'.tmp'//c_null_char, path//c_null_char)
@@ -181,11 +188,44 @@ contains
           call h5u_read(g, 'x', p%x(:, 1:p%npoints))
           call h5u_read(g, 'pressure', p%pressure(1:p%npoints))
         end if
+        if (p%fr%on) call read_friction(g, p)
         call h5u_close_group(g)
       end associate
     end do
+    if (contact%friction) then
+      s%e_friction = h5u_read_attr_real(f, 'e_friction')
+      contact%friction_work = s%e_friction
+      contact%started = h5u_read_attr_int(f, 'friction_started') == 1
+      if (allocated(contact%x_prev)) deallocate(contact%x_prev)
+      if (contact%started) then
+        allocate(contact%x_prev(2, nn))
+        call h5u_read(f, 'contact_x_prev', contact%x_prev)
+      end if
+    end if
     call h5u_close_file(f)
   end subroutine checkpoint_read
+
+  !> The friction state of a pair: committed tangential tractions, the frictional work and
+  !! the tangential resultant of the last evaluation.
+  subroutine write_friction(g, p)
+    integer(hid_t), intent(in) :: g
+    type(contact_pair_t), intent(in) :: p
+    call h5u_write(g, 'friction_traction', p%fr%t_old)
+    call h5u_write(g, 'friction_values', [p%fr%work, p%fr%force])
+  end subroutine write_friction
+
+  !> Reads what write_friction wrote.
+  subroutine read_friction(g, p)
+    integer(hid_t), intent(in) :: g
+    type(contact_pair_t), intent(inout) :: p
+    real(dp) :: vals(3)
+    call h5u_read(g, 'friction_traction', p%fr%t_old)
+    p%fr%t_new = p%fr%t_old
+    call h5u_read(g, 'friction_values', vals)
+    p%fr%work = vals(1)
+    p%fr%force = vals(2:3)
+    p%fr%dwork = 0.0_dp
+  end subroutine read_friction
 
   !> The quadrature-point history of the material laws, one row per element (global element
   !! order), written by the rank that owns the element (domain_owns).

@@ -46,6 +46,8 @@ module ictus_io_deck_card
     integer :: material = 0
     !> Patch that *KNOTS/*CONTROL POINTS belong to: 0 none, -1 a broken *PATCH (ignore).
     integer :: patch = 0
+    !> *SURFACE INTERACTION that *FRICTION belongs to: 0 none, -1 a broken one (ignore).
+    integer :: interaction = 0
     logical :: in_step = .false.
     !> Inside a second (rejected) *STEP: its cards are skipped.
     logical :: skip_step = .false.

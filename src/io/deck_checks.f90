@@ -13,7 +13,7 @@
 !!   *CLOAD and *DLOAD defined.
 !! Every ELSET name (of *ELSET or of *ELEMENT, ELSET=) and every patch name is also a node set.
 module ictus_io_deck_checks
-  use ictus_core_kinds, only: str_len
+  use ictus_core_kinds, only: dp, str_len
   use ictus_core_errors, only: input_error
   use ictus_core_strings, only: str
   use ictus_io_deck_types, only: deck_t, material_in_t, SET_NODE, SET_ELEMENT, SIDE_NONE, &
@@ -423,11 +423,43 @@ contains
       call need(t, d%walls(k)%surface, NAME_SURFACE, 'surface', d%walls(k)%where, &
           '*RIGID WALL')
     end do
+    call check_interactions(d)
     do k = 1, d%step%n_out_sets
       call need(t, d%step%out_sets(k)%name, NAME_NSET, 'node set', d%step%out_sets(k)%where, &
           '*OUTPUT, HISTORY, NSET=')
     end do
   end subroutine check_uses
+
+  !> The INTERACTION= of contact pairs and walls name a *SURFACE INTERACTION, and every
+  !! *SURFACE INTERACTION has its *FRICTION.
+  subroutine check_interactions(d)
+    type(deck_t), intent(in) :: d
+    integer :: k
+    do k = 1, d%n_pairs
+      call need_interaction(d, d%pairs(k)%interaction, d%pairs(k)%where, '*CONTACT PAIR')
+    end do
+    do k = 1, d%n_walls
+      call need_interaction(d, d%walls(k)%interaction, d%walls(k)%where, '*RIGID WALL')
+    end do
+    do k = 1, d%n_interactions
+      if (d%interactions(k)%mu < 0.0_dp) call input_error(d%interactions(k)%where, &
+          '*SURFACE INTERACTION: NAME='//trim(d%interactions(k)%name)//' has no *FRICTION '// &
+          '(expected a *FRICTION card with the coefficient mu right after it)')
+    end do
+  end subroutine check_interactions
+
+  !> Reports an INTERACTION= name (not blank) that no *SURFACE INTERACTION defines.
+  subroutine need_interaction(d, name, where, card)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(in) :: name, where, card
+    integer :: k
+    if (len_trim(name) == 0) return
+    do k = 1, d%n_interactions
+      if (d%interactions(k)%name == name) return
+    end do
+    call input_error(where, card//': INTERACTION='//trim(name)//' is not defined (expected '// &
+        'the NAME= of a *SURFACE INTERACTION card with its *FRICTION)')
+  end subroutine need_interaction
 
   !> The load cards: amplitude names unique and every AMPLITUDE= defined; the node sets of
   !! *CLOAD, the surfaces of *DLOAD, P and the element sets of *DLOAD, GRAV defined.

@@ -291,7 +291,8 @@ contains
     call more(t, nlines - shown)
   end subroutine put_set_list
 
-  !> *BOUNDARY, *INITIAL CONDITIONS, *MASS, *DAMPING, *CONTACT PAIR and *RIGID WALL.
+  !> *BOUNDARY, *INITIAL CONDITIONS, *MASS, *DAMPING, *CONTACT PAIR, *RIGID WALL and
+  !! *SURFACE INTERACTION with its *FRICTION.
   subroutine echo_conditions(d, t)
     type(deck_t), intent(in) :: d
     type(text_t), intent(inout) :: t
@@ -347,7 +348,7 @@ contains
         else if (p%mass_penalty > 0.0_dp) then
           line = line//', MASS PENALTY='//real_text(p%mass_penalty)
         end if
-        call put(t, line)
+        call put(t, line//interaction_text(p%interaction, p%tangential_penalty))
         call put(t, trim(p%first)//', '//trim(p%second))
       end associate
     end do
@@ -355,11 +356,28 @@ contains
       associate (w => d%walls(k))
         call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='//real_text(w%point(1))// &
             ','//real_text(w%point(2))//', NORMAL='//real_text(w%normal(1))//','// &
-            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty))
+            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty)// &
+            interaction_text(w%interaction, w%tangential_penalty))
         call put(t, trim(w%surface))
       end associate
     end do
+    do k = 1, d%n_interactions
+      call put(t, '*SURFACE INTERACTION, NAME='//trim(d%interactions(k)%name))
+      call put(t, '*FRICTION')
+      call put(t, real_text(d%interactions(k)%mu))
+    end do
   end subroutine echo_conditions
+
+  !> ', INTERACTION=name[, TANGENTIAL PENALTY=value]' of a contact pair or wall ('' none).
+  function interaction_text(name, eps_t) result(r)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: eps_t
+    character(len=:), allocatable :: r
+    r = ''
+    if (len_trim(name) == 0) return
+    r = ', INTERACTION='//trim(name)
+    if (eps_t > 0.0_dp) r = r//', TANGENTIAL PENALTY='//real_text(eps_t)
+  end function interaction_text
 
   !> *AMPLITUDE cards, one "time, value" pair per line.
   subroutine echo_amplitudes(d, t)

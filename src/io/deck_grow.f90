@@ -5,14 +5,26 @@
 module ictus_io_deck_grow
   use ictus_io_deck_types, only: material_in_t, element_block_in_t, set_in_t, surface_in_t, &
       boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
-      contact_pair_in_t, rigid_wall_in_t, amplitude_in_t, cload_in_t, dload_in_t
+      contact_pair_in_t, rigid_wall_in_t, amplitude_in_t, cload_in_t, dload_in_t, &
+      interaction_in_t
   implicit none
   private
   public :: grow_materials, grow_blocks, grow_sets, grow_surfaces, grow_boundaries, &
       grow_velocities, grow_masses, grow_dampings, grow_patches, grow_patch_ops, grow_pairs, &
-      grow_walls, grow_amplitudes, grow_cloads, grow_dloads
+      grow_walls, grow_amplitudes, grow_cloads, grow_dloads, grow_interactions
 
 contains
+
+  !> Makes `a` hold at least `n` records.
+  subroutine grow_interactions(a, n)
+    type(interaction_in_t), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    type(interaction_in_t), allocatable :: tmp(:)
+    if (size(a) >= n) return
+    allocate(tmp(max(n, 2*size(a), 4)))
+    tmp(1:size(a)) = a
+    call move_alloc(tmp, a)
+  end subroutine grow_interactions
 
   !> Makes `a` hold at least `n` records.
   subroutine grow_materials(a, n)

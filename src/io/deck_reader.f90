@@ -37,7 +37,8 @@ module ictus_io_deck_reader
       read_damping, read_hyperelastic, read_plastic
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
   use ictus_io_deck_loads, only: read_amplitude, read_cload, read_dload
-  use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall
+  use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall, &
+      read_surface_interaction, read_friction
   use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop, &
       resolve_twins
   use ictus_io_deck_step, only: read_step, read_dynamic, read_output, read_restart, &
@@ -136,7 +137,7 @@ contains
         deck%blocks(0), deck%sets(0), deck%surfaces(0), deck%boundaries(0), &
         deck%velocities(0), deck%amplitudes(0), deck%cloads(0), deck%dloads(0), &
         deck%masses(0), deck%dampings(0), deck%patches(0), deck%patch_ops(0), &
-        deck%pairs(0), deck%walls(0), deck%edges(0), deck%sections(0))
+        deck%pairs(0), deck%walls(0), deck%edges(0), deck%sections(0), deck%interactions(0))
   end subroutine init_deck
 
   !> Closes the step, trims the arrays to their counts and runs the whole-deck checks.
@@ -170,6 +171,7 @@ contains
     deck%patch_ops = deck%patch_ops(1:deck%n_patch_ops)
     deck%pairs = deck%pairs(1:deck%n_pairs)
     deck%walls = deck%walls(1:deck%n_walls)
+    deck%interactions = deck%interactions(1:deck%n_interactions)
     deck%edges = deck%edges(1:deck%n_edges)
     if (iand(rd%broken, SKIP_ELEMENTS) == 0) then
       call resolve_interop(deck, iand(rd%broken, SKIP_MATERIALS) /= 0)
@@ -193,6 +195,7 @@ contains
       rd%material = 0
     end select
     if (c%kw%name /= 'KNOTS' .and. c%kw%name /= 'CONTROL POINTS') rd%patch = 0
+    if (c%kw%name /= 'FRICTION') rd%interaction = 0
     select case (c%kw%name)
     case ('DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP')
       step_card = .true.
@@ -264,6 +267,10 @@ contains
       call read_contact_pair(c, rd, d)
     case ('RIGID WALL')
       call read_rigid_wall(c, rd, d)
+    case ('SURFACE INTERACTION')
+      call read_surface_interaction(c, rd, d)
+    case ('FRICTION')
+      call read_friction(c, rd, d)
     case ('DAMPING')
       call read_damping(c, rd, d)
     case ('MASS')
@@ -300,7 +307,7 @@ contains
         'PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE', 'NSET', 'ELSET', 'SURFACE', &
         'BOUNDARY', 'INITIAL CONDITIONS', 'CONTACT PAIR', 'RIGID WALL', 'DAMPING', 'MASS', &
         'SOLID SECTION', 'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP', 'AMPLITUDE', &
-        'CLOAD', 'DLOAD')
+        'CLOAD', 'DLOAD', 'SURFACE INTERACTION', 'FRICTION')
       is_known_card = .true.
     case default
       is_known_card = .false.

@@ -18,6 +18,7 @@ module ictus_io_deck_types
   public :: deck_t, material_in_t, element_block_in_t, set_in_t, surface_in_t, &
       boundary_in_t, velocity_in_t, mass_in_t, damping_in_t, patch_in_t, patch_op_in_t, &
       step_in_t, out_set_in_t, section_in_t, contact_pair_in_t, rigid_wall_in_t, where_len, &
+      interaction_in_t, &
       amplitude_in_t, cload_in_t, dload_in_t, DLOAD_PRESSURE, DLOAD_GRAV, &
       AMP_DEF_TABULAR, AMP_DEF_SMOOTH_STEP, BC_DISPLACEMENT, BC_VELOCITY, &
       ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
@@ -305,6 +306,9 @@ module ictus_io_deck_types
     integer :: algorithm = CONTACT_TWO_HALF_PASS
     !> Bipenalty mass penalty: < 0 none (default), 0 = AUTO, > 0 the given epsilon_m.
     real(dp) :: mass_penalty = -1.0_dp
+    !> INTERACTION= (a *SURFACE INTERACTION; '' none) and TANGENTIAL PENALTY= (0: PENALTY).
+    character(len=str_len) :: interaction = ''
+    real(dp) :: tangential_penalty = 0.0_dp
     character(len=str_len) :: first = ''
     character(len=str_len) :: second = ''
     character(len=where_len) :: where = ''
@@ -316,9 +320,19 @@ module ictus_io_deck_types
     real(dp) :: point(2) = 0.0_dp
     real(dp) :: normal(2) = 0.0_dp
     real(dp) :: penalty = 0.0_dp
+    !> INTERACTION= (a *SURFACE INTERACTION; '' none) and TANGENTIAL PENALTY= (0: PENALTY).
+    character(len=str_len) :: interaction = ''
+    real(dp) :: tangential_penalty = 0.0_dp
     character(len=str_len) :: surface = ''
     character(len=where_len) :: where = ''
   end type rigid_wall_in_t
+
+  !> *SURFACE INTERACTION with its *FRICTION (mu < 0: no *FRICTION given).
+  type :: interaction_in_t
+    character(len=str_len) :: name = ''
+    real(dp) :: mu = -1.0_dp
+    character(len=where_len) :: where = ''
+  end type interaction_in_t
 
   !> The whole deck.
   type :: deck_t
@@ -372,6 +386,8 @@ module ictus_io_deck_types
     type(contact_pair_in_t), allocatable :: pairs(:)
     integer :: n_walls = 0
     type(rigid_wall_in_t), allocatable :: walls(:)
+    integer :: n_interactions = 0
+    type(interaction_in_t), allocatable :: interactions(:)
     logical :: has_step = .false.
     type(step_in_t) :: step
   end type deck_t

@@ -47,6 +47,7 @@ module ictus_io_results
     real(dp) :: contact = 0.0_dp
     real(dp) :: external_work = 0.0_dp
     real(dp) :: plastic_work = 0.0_dp
+    real(dp) :: frictional_work = 0.0_dp
   end type history_record_t
 
   type :: results_t
@@ -56,15 +57,20 @@ module ictus_io_results
     integer :: nbuf = 0
     !> Whether the energies have a plastic-work term (a material law dissipates).
     logical :: plastic = .false.
+    !> Whether a contact pair has Coulomb friction (then /history/energy has frictional_work
+    !! and such pairs friction_force).
+    logical :: friction = .false.
     !> History records already appended to the file.
     integer :: n_written = 0
     type(history_record_t) :: buf(buffer_size)
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
     !> Contact pairs (lower-case names) and their buffered records: force_first (2),
-    !! force_second (2), max_pressure, max_penetration, active_points, per record.
+    !! force_second (2), max_pressure, max_penetration, active_points, friction_force (2),
+    !! per record; whether each pair has friction.
     integer :: npairs = 0
     character(len=64), allocatable :: pair_name(:)
+    logical, allocatable :: pair_friction(:)
     real(dp), allocatable :: cbuf(:,:,:)
     !> Node sets with a history (lower-case names), their variables (VAR_U, VAR_V, VAR_RF of
     !! model%out_sets) and their buffered records (ndm, slot, set, record): slot 1 the mean
@@ -148,6 +154,8 @@ contains
     call h5u_create_ext(g, 'contact', 0, buffer_size)
     call h5u_create_ext(g, 'external_work', 0, buffer_size)
     if (r%plastic) call h5u_create_ext(g, 'plastic_work', 0, buffer_size)
+    r%friction = contact%friction
+    if (r%friction) call h5u_create_ext(g, 'frictional_work', 0, buffer_size)
     call h5u_create_ext(g, 'total', 0, buffer_size)
     call h5u_close_group(g)
     call h5u_group(r%file, 'fields', g)
@@ -212,7 +220,8 @@ contains
     integer(hid_t) :: g
     integer :: k
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(9, r%npairs, buffer_size))
+    r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     if (r%npairs == 0) return
     call h5u_group(r%file, 'history/contact', g)
     call h5u_close_group(g)
@@ -226,6 +235,7 @@ contains
       call h5u_create_ext(g, 'max_pressure', 0, buffer_size)
       call h5u_create_ext(g, 'max_penetration', 0, buffer_size)
       call h5u_create_ext(g, 'active_points', 0, buffer_size, is_integer=.true.)
+      if (r%pair_friction(k)) call h5u_create_ext(g, 'friction_force', 2, buffer_size)
       call h5u_close_group(g)
       call h5u_group(r%file, 'contact/'//trim(r%pair_name(k)), g)
       call h5u_close_group(g)
@@ -242,7 +252,7 @@ contains
     do k = 1, r%npairs
       associate (p => contact%pairs(k))
         r%cbuf(:, k, n) = [p%force_first, p%force_second, p%max_pressure, p%max_penetration, &
-            real(p%active_points, dp)]
+            real(p%active_points, dp), p%fr%force]
       end associate
     end do
   end subroutine results_contact
@@ -430,7 +440,9 @@ contains
     call setup_views(r, model, dom)
     call grid_fields(r)
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    r%friction = contact%friction
+    allocate(r%pair_name(r%npairs), r%cbuf(9, r%npairs, buffer_size))
+    r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     do k = 1, r%npairs
       r%pair_name(k) = trim(lower(contact%pairs(k)%name))
     end do
@@ -440,6 +452,7 @@ contains
     call h5u_close_group(g)
     call h5u_group(r%file, 'history/energy', g)
     if (r%plastic) call h5u_truncate(g, 'plastic_work', n_history)
+    if (r%friction) call h5u_truncate(g, 'frictional_work', n_history)
     do k = 1, size(energies)
       call h5u_truncate(g, trim(energies(k)), n_history)
     end do
@@ -449,6 +462,7 @@ contains
       do j = 1, size(cnames)
         call h5u_truncate(g, trim(cnames(j)), n_history)
       end do
+      if (r%pair_friction(k)) call h5u_truncate(g, 'friction_force', n_history)
       call h5u_close_group(g)
     end do
     call open_sets(r, model, .false.)
@@ -543,6 +557,7 @@ contains
     call h5u_append(g, 'external_work', r%col(1:n))
     r%col(1:n) = r%buf(1:n)%kinetic + r%buf(1:n)%strain + r%buf(1:n)%contact &
         - r%buf(1:n)%external_work
+    if (r%friction) r%col(1:n) = r%col(1:n) + r%buf(1:n)%frictional_work
     if (r%plastic) then
       r%col(1:n) = r%col(1:n) + r%buf(1:n)%plastic_work
       call h5u_append(g, 'total', r%col(1:n))
@@ -550,6 +565,10 @@ contains
       call h5u_append(g, 'plastic_work', r%col(1:n))
     else
       call h5u_append(g, 'total', r%col(1:n))
+    end if
+    if (r%friction) then
+      r%col(1:n) = r%buf(1:n)%frictional_work
+      call h5u_append(g, 'frictional_work', r%col(1:n))
     end if
     call h5u_close_group(g)
     do k = 1, r%npairs
@@ -564,6 +583,10 @@ contains
       call h5u_append(g, 'max_penetration', r%col(1:n))
       r%icol(1:n) = nint(r%cbuf(7, k, 1:n))
       call h5u_append(g, 'active_points', r%icol(1:n))
+      if (r%pair_friction(k)) then
+        r%col2(:, 1:n) = r%cbuf(8:9, k, 1:n)
+        call h5u_append(g, 'friction_force', r%col2(:, 1:n))
+      end if
       call h5u_close_group(g)
     end do
     do k = 1, r%nsets

@@ -15,6 +15,10 @@
 !! of the next one (mass_set_added). When a node's added mass grows, its velocity is scaled
 !! by (m + dm_old)/(m + dm_new) (the added mass joins at rest, momentum m v is kept) and the
 !! contact forces are evaluated again on the corrected prediction.
+!!
+!! Coulomb friction (doc/contact.md §4a): every evaluation of a step starts from the friction
+!! state of the last step; the last evaluation is committed (contact_commit) and the
+!! frictional work so far is stored in the state next to the contact energy.
 module ictus_solver_contact_step
   use ictus_core_kinds, only: dp
   use ictus_core_errors, only: input_error
@@ -23,7 +27,8 @@ module ictus_solver_contact_step
   use ictus_parallel_env, only: allreduce_sum
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_contact_contact, only: contact_t, contact_forces, contact_stability, PAIR_WALL
+  use ictus_contact_contact, only: contact_t, contact_forces, contact_stability, PAIR_WALL, &
+      contact_commit
   use ictus_solver_domain, only: domain_t
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_set_added
@@ -149,7 +154,8 @@ contains
   end subroutine gather_contact_nodes
 
   !> Contact forces on u_pre = u_n + dt v_pre and the velocity correction. Also stores the
-  !! contact energy in the state. With bipenalty (lumped mass), also updates the added
+  !! contact energy in the state and, with friction, commits the friction state and stores
+  !! the frictional work. With bipenalty (lumped mass), also updates the added
   !! masses of the contact nodes in `mop` (used by this correction and the next predictor).
   subroutine contact_correct(cs, c, s, mop, dom, x0)
     type(contact_step_t), intent(inout) :: cs
@@ -184,6 +190,10 @@ contains
       end do
     end if
     s%e_contact = energy
+    if (c%friction) then
+      call contact_commit(c, size(x0, 2), cs%xg)
+      s%e_friction = c%friction_work
+    end if
     ! with mass-proportional damping the predictor is v_pre = ((1 - h) v + dt a)/(1 + h),
     ! h = alpha dt/2; the contact acceleration belongs to the same damped step, so it enters
     ! as dt a_cor/(1 + h) (without this the static state of a damped relaxation would carry

@@ -89,6 +89,9 @@ module ictus_solver_explicit
     real(dp) :: e_kin = 0.0_dp, e_strain = 0.0_dp, e_contact = 0.0_dp, w_ext = 0.0_dp
     !> Energy dissipated by the material laws (plastic work) up to t_n.
     real(dp) :: e_plastic = 0.0_dp
+    !> Energy dissipated by contact friction up to the last contact correction (the one
+    !! evaluated on u_pre ~ u_n, like e_contact).
+    real(dp) :: e_friction = 0.0_dp
     real(dp) :: e_time = 0.0_dp
     !> Work of external and damping forces from t = 0 to t_n, and the damping power at t_{n-1}.
     real(dp) :: w_acc = 0.0_dp

@@ -16,7 +16,8 @@ program test_contact
       patch_side_segments, SEG_LAGRANGE, SEG_BEZIER
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, contact_forces, contact_stability, &
-      contact_failures, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT
+      contact_failures, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
+      contact_define_friction, contact_commit
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: eps = 1.0e5_dp, gap = 1.0e-3_dp, len = 2.0_dp
@@ -29,6 +30,9 @@ program test_contact
   call q8_rigid_wall(t)
   call q8_stability(t)
   call hertz_mirror(t)
+  call friction_steps(t, PAIR_WALL, 'friction, wall')
+  call friction_steps(t, PAIR_NODE_TO_SEGMENT, 'friction, NTS')
+  call friction_steps(t, PAIR_TWO_HALF_PASS, 'friction, THP')
   call t%finish()
 
 contains
@@ -359,4 +363,60 @@ contains
       call t%equal_int(p%failures, 0, 'hertz: no failed projections')
     end associate
   end subroutine hertz_mirror
+  !> Coulomb friction (doc/contact.md §4a) on a flat interface of length L = len with
+  !! penetration g: mu = 0.2, eps_T = eps/2, so the cone is mu eps g = 20 per unit length.
+  !! The upper body (a Q8 row above a longer fixed row, or pressed onto the wall y = 0 from
+  !! below) moves along x in committed steps: 1e-4 (stick: t = eps_T 1e-4 = 5, elastic energy
+  !! t^2/(2 eps_T) L, no work), then 5e-4 (trial 30 > 20: slip, t = 20, slip (30 - 20)/eps_T,
+  !! work 20 * 2e-4 L), then back by 2e-4 (trial 20 - 10 = 10: stick again). The friction force
+  !! on the first surface is -t L along the motion; evaluating again without a commit gives
+  !! the same; frictional work enters contact_t%friction_work only at the commits.
+  subroutine friction_steps(t, kind, label)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: kind
+    character(len=*), intent(in) :: label
+    real(dp), parameter :: mu = 0.2_dp, eps_t = 0.5_dp*eps
+    real(dp), parameter :: shift(3) = [1.0e-4_dp, 5.0e-4_dp, -2.0e-4_dp]
+    real(dp), parameter :: trac(3) = [5.0_dp, 20.0_dp, 10.0_dp], work(3) = [0.0_dp, &
+        20.0_dp*2.0e-4_dp*len, 0.0_dp]
+    type(contact_t) :: c
+    real(dp) :: x(2, 200), fc(2, 200), energy, e_n, f1(2)
+    integer :: nn, nup, e1(8, 6), e2(8, 4), k
+    nn = 0
+    call q8_row(4, 0.0_dp, -gap, len/4, 1.0_dp, x, nn, e2)
+    nup = nn
+    if (kind == PAIR_WALL) then
+      call contact_init(c, 1, 1)
+      call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
+      call contact_define_wall(c, 1, 'floor', [0.0_dp, 0.0_dp], [0.0_dp, 1.0_dp], eps, 1)
+    else
+      call q8_row(6, -0.5_dp, -1.0_dp, len/4, 1.0_dp, x, nn, e1)
+      call contact_init(c, 2, 1)
+      call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
+      call q8_surface(c, 2, 'LOW', e1, 3, x(:, 1:nn))
+      call contact_define_pair(c, 1, 'slide', kind, eps, 1, 2)
+    end if
+    call contact_define_friction(c, 1, mu, eps_t)
+    call contact_setup(c)
+    fc = 0.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), e_n)
+    call t%close_abs(c%pairs(1)%fr%force(1), 0.0_dp, 1.0e-12_dp, label//': no motion, no '// &
+        'friction')
+    call contact_commit(c, nn, x(:, 1:nn))
+    do k = 1, 3
+      x(1, 1:nup) = x(1, 1:nup) + shift(k)
+      call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+      f1 = c%pairs(1)%fr%force
+      call t%close(-f1(1), trac(k)*len, 1.0e-9_dp, label//': friction force')
+      call t%close_abs(f1(2), 0.0_dp, 1.0e-9_dp, label//': friction force is tangential')
+      call t%close(energy - e_n, 0.5_dp*trac(k)**2/eps_t*len, 1.0e-6_dp, &
+          label//': elastic tangential energy')
+      call t%close_abs(c%pairs(1)%fr%dwork, work(k), 1.0e-12_dp, label//': frictional work')
+      call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+      call t%close(c%pairs(1)%fr%force(1), f1(1), 0.0_dp, label//': again the same '// &
+          'without a commit')
+      call contact_commit(c, nn, x(:, 1:nn))
+    end do
+    call t%close(c%friction_work, work(2), 1.0e-9_dp, label//': committed frictional work')
+  end subroutine friction_steps
 end program test_contact
