@@ -25,7 +25,9 @@
    seams). Contact ends before t = 0.6; the rebound velocity is the mean vertical velocity
    sum(m v_y) / sum(m) at t = 0.6. Reference: a Q8 disc on the same patch maps refined until
    it changes by less than 0.1 % (n = 32 and 48); the IGA disc (n = 32, m = 16) must be
-   within 1 % of it. The IGA run on 2 MPI ranks gives the same results file bit for bit.
+   within 1 % of it. The IGA run on 2 MPI ranks, and the processed deck stored in its results
+   file (which writes MERGE=YES and the *SURFACE side lines back), give the same histories and
+   fields bit for bit.
 """
 import os
 import sys
@@ -152,6 +154,8 @@ def check_drop(args, chk):
     chk.close(float(r.model("mass").sum()), RHO * np.pi, 1e-12, "IGA drop: total mass rho pi R^2")
     print(f"  rebound velocity / v0: IGA {v / 0.1:.5f}, Q8 n = 32 {q[32] / 0.1:.5f}, "
           f"n = 48 {q[48] / 0.1:.5f}")
+    chk.true(vcheck.processed_deck_reruns(args, os.path.join(args.work, "drop_iga.h5")),
+             "IGA drop: the processed deck (MERGE=YES, *SURFACE side lines) reruns bit for bit")
     r2, _ = run(args, "drop_iga_np2", drop_deck(False, 32), np_ranks=2)
     chk.true(vcheck.same_bits(os.path.join(args.work, "drop_iga.h5"),
                               os.path.join(args.work, "drop_iga_np2.h5")),
