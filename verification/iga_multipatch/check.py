@@ -11,6 +11,10 @@
    each neighbour), 4 (m+2)(n+2) - 4 (m+2) for the ring, and for the half-disc the four patch
    sizes less the five shared sides plus the two triple points counted twice.
 
+   One patch closed on itself (an annulus whose direction 2 is the full circle, so its sides
+   ETA0 and ETA1 coincide): rho pi (R^2 - r^2) to 1e-12, and the two ends of the net are the
+   same n1 nodes.
+
 2. No seam. A bar [0, 10] x [0, 0.5] (plane stress, nu = 0, E = 1000, rho = 1, v = -1 along
    its axis, u_x = 0 at x = 0; verification/iga_bar_wave) made of two merged patches [0, 5]
    and [5, 10] of 50 x 1 spans each is the same discretisation as one patch whose knot 1/2 is
@@ -27,7 +31,7 @@
    it changes by less than 0.1 % (n = 32 and 48); the IGA disc (n = 32, m = 16) must be
    within 1 % of it. The IGA run on 2 MPI ranks, and the processed deck stored in its results
    file (which writes MERGE=YES and the *SURFACE side lines back), give the same histories and
-   fields bit for bit.
+   fields bit for bit, and so does a run continued from a checkpoint (*RESTART, WRITE).
 """
 import os
 import sys
@@ -39,6 +43,7 @@ import vcheck  # noqa: E402
 import disc  # noqa: E402  (scripts/mesh, on the path through vcheck)
 
 E, RHO, V0, L, H = 1000.0, 1.0, 1.0, 10.0, 0.5
+S = np.sqrt(0.5)
 C = (E / RHO) ** 0.5
 
 
@@ -74,6 +79,32 @@ def check_mass(args, chk):
             chk.true(bool(np.all(mm > 0)), f"{label}, {scheme}: all masses positive")
         chk.true(r.model("coordinates").shape[0] == ncp,
                  f"{label}: {r.model('coordinates').shape[0]} control points (expected {ncp})")
+
+
+def closed_ring_deck():
+    """One patch closed on itself: the annulus 1/2 <= r <= 1 with the full circle (9 control
+    points, double knots at 1/4, 1/2, 3/4) along direction 2, so sides ETA0 and ETA1 are the
+    same radial segment and are glued to each other."""
+    circ = [(1, 0, 1), (1, 1, S), (0, 1, 1), (-1, 1, S), (-1, 0, 1), (-1, -1, S), (0, -1, 1),
+            (1, -1, S), (1, 0, 1)]
+    cps = "".join(f"{r * x!r}, {r * y!r}, {w!r}\n" for x, y, w in circ for r in (0.5, 0.75, 1.0))
+    return ("*HEADING\nclosed ring, one patch\n*ANALYSIS, TYPE=PLANE STRAIN, THICKNESS=1\n"
+            + vcheck.material_block(e=E, nu=0.2, rho=RHO)
+            + "*PATCH, NAME=RING, MATERIAL=MAT, DEGREE=2,2, SIZE=3,9, MERGE=YES\n"
+            + "*KNOTS, DIRECTION=1\n0 0 0 1 1 1\n*KNOTS, DIRECTION=2\n"
+            + "0 0 0 0.25 0.25 0.5 0.5 0.75 0.75 1 1 1\n*CONTROL POINTS\n" + cps
+            + "*REFINE, PATCH=RING, SUBDIVIDE=8,32\n*STEP\n*DYNAMIC, EXPLICIT\n0, 1e-4\n*END STEP\n")
+
+
+def check_closed_ring(args, chk):
+    r, _ = run(args, "closed_ring", closed_ring_deck())
+    n1, n2 = (int(v) for v in r.f["model/patches/ring/size"][()])
+    ids = np.asarray(r.f["model/patches/ring/ids"]).reshape(n2, n1)
+    chk.close(float(r.model("mass").sum()), RHO * np.pi * 0.75, 1e-12,
+              "closed ring (one patch glued to itself): total mass")
+    chk.true(r.model("coordinates").shape[0] == n1 * n2 - n1 and
+             np.array_equal(ids[0], ids[-1]), f"closed ring: {n1 * n2 - n1} control points, "
+             "the first and last rows of the net are the same nodes")
 
 
 def bar_deck(merged):
@@ -162,12 +193,31 @@ def check_drop(args, chk):
              "IGA drop on 2 ranks: the same histories and fields bit for bit")
 
 
+def check_restart(args, chk):
+    """The drop (n = 16, to t = 0.3) with a checkpoint every 300 steps, continued from the
+    checkpoint of step 300 in a copy of its results file: the same file bit for bit."""
+    import shutil
+    text = disc_deck(kind="disc", n=16, m=8, y0=1.0, vy=-0.1, wall=1e4, t_end=0.3)
+    text = text.replace("*END STEP", "*RESTART, WRITE, EVERY=300\n*END STEP")
+    run(args, "drop_restart", text)
+    base = os.path.join(args.work, "drop_restart")
+    shutil.copy(base + ".h5", base + "_again.h5")
+    shutil.copy(base + ".chk.h5", base + "_again.chk.h5")
+    _, log = vcheck.run_ictus(args, base + ".inp", base + "_again.h5",
+                              extra=("--restart", base + "_again.chk.h5"))
+    chk.true("continuing at step 300" in log and
+             vcheck.same_bits(base + ".h5", base + "_again.h5"),
+             "drop restarted from its checkpoint at step 300: the same results bit for bit")
+
+
 def main():
     args = vcheck.arguments()
     chk = vcheck.Checker("iga_multipatch")
     check_mass(args, chk)
+    check_closed_ring(args, chk)
     check_seam(args, chk)
     check_drop(args, chk)
+    check_restart(args, chk)
     chk.finish()
 
 
