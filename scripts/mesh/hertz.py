@@ -5,6 +5,8 @@ frictionless penalty contact (eps_N = 1e5, two-half-pass), dt = 5e-4, T = 0.9.
 
     hertz.py --kind iga --mass HRZ [--subdivide 16] [--elevate 3] > deck.inp   (see input/hertz/)
     hertz.py --kind q8 --mass HRZ [--n 16] > deck.inp
+    hertz.py --kind iga4 --mass HRZ [--subdivide 16] > deck.inp   (4 merged patches each,
+        scripts/mesh/disc.py --kind halfdisc: no point with det J = 0; 16 spans on the cut)
 
 --variant both (default): the upper body moves down at 2 and the lower one up at 2 (V_rel = 4);
 --variant one: the upper body moves down at 2, the lower one is at rest (V_rel = 2).
@@ -37,6 +39,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halfdisc  # noqa: E402
+import disc  # noqa: E402
 
 LOWER_IDS = 100000   # Q8: id offset of the lower body
 MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_step.f90)
@@ -45,7 +48,9 @@ MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_step.f90)
 def parser():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--kind", choices=["iga", "q8"], default="iga")
+    ap.add_argument("--kind", choices=["iga", "iga4", "q8"], default="iga",
+                    help="iga: one patch; iga4: 4 merged patches (disc.py), 2 x --subdivide "
+                         "spans on the cut; q8: Q8 mesh")
     ap.add_argument("--mass", default="HRZ", choices=["CONSISTENT", "ROW SUM", "HRZ"])
     ap.add_argument("--mass-passes", type=int, default=0,
                     help="with --mass CONSISTENT: apply it by this many corrector passes "
@@ -78,6 +83,12 @@ def check_options(a):
           a.subdivide)
     check(a.elevate >= 2, "--elevate", "a degree >= 2 (the patch is quadratic)", a.elevate)
     check(a.n >= 1, "--n", "a positive integer (Q8 elements per direction)", a.n)
+    if a.kind == "iga4":
+        check(a.subdivide % 2 == 0, "--subdivide", "an even number with --kind iga4 (the cut "
+              "has as many spans, the patches beside the arc half of them)", a.subdivide)
+        check(a.elevate == 2 and a.grade_arc == 1.0 and a.grade_depth == 1.0 and
+              a.static is None, "--kind", "iga or q8 with --elevate, --grade-* or --static "
+              "(iga4 is quadratic and uniform)", a.kind)
     if a.kind == "q8" and not a.wall:
         n_max = max(n for n in range(1, 400) if halfdisc.q8_id_count(n) <= LOWER_IDS)
         check(a.n <= n_max, "--n", f"at most {n_max} with two bodies (the upper body's ids "
@@ -222,6 +233,11 @@ def graded_body_cards(a, centre, name, id_offset):
 
 
 def _body(a, centre, name, id_offset):
+    if a.kind == "iga4":
+        # the cut of the 4-patch half-disc has 2n spans of R/n: as many as the single patch's
+        # cut has with SUBDIVIDE = 2n (doc/iga.md §6)
+        return disc.body_cards(disc.options(kind="halfdisc", n=a.subdivide // 2, centre=centre,
+                                            name=name))
     if a.grade_arc != 1.0 or a.grade_depth != 1.0 or a.static is not None:
         return graded_body_cards(a, centre, name, id_offset)
     common = dict(kind=a.kind, subdivide=a.subdivide, elevate=a.elevate, n=a.n)
@@ -232,6 +248,8 @@ def _body(a, centre, name, id_offset):
 def deck(a, command):
     if a.kind == "q8":
         kind = f"{a.n} x {a.n} Q8 elements"
+    elif a.kind == "iga4":
+        kind = f"4 merged NURBS patches, {a.subdivide} spans on the cut"
     else:
         kind = f"NURBS p = {max(2, a.elevate)}, {a.subdivide} x {a.subdivide} spans"
     if a.grade_arc != 1.0 or a.grade_depth != 1.0:

@@ -16,7 +16,7 @@ module ictus_app_build_contact
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       contact_define_friction
-  use ictus_solver_model, only: model_t
+  use ictus_solver_model, only: model_t, patch_nodes
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
       CONTACT_NODE_TO_SEGMENT
   use ictus_app_build_model, only: resolve_elem_set, patch_index
@@ -174,28 +174,11 @@ contains
     type(contact_surface_t), intent(inout) :: surf
     integer, allocatable :: conn(:,:), nens(:), elem(:), kinds(:)
     real(dp), allocatable :: wgt(:,:), ext(:,:,:)
-    integer :: nseg, ip, ierr, e0, n0
+    integer :: nseg, n0
     if (sin%kind == SURF_PATCH) then
-      ip = patch_index(model, sin%patch)
-      if (ip == 0) then
-        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': patch '// &
-            trim(sin%patch)//' is not defined by a *PATCH card')
-        return
-      end if
-      call patch_side_segments(model%patches(ip), model%patch_offset(ip), sin%side, nseg, &
-          nens, conn, wgt, ext, elem, ierr)
-      if (ierr == 1) then
-        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': patch side '// &
-            side_name(sin%side)//' does not exist (expected XI0, XI1, ETA0, ETA1 or ALL)')
-        return
-      else if (ierr == 2) then
-        call input_error(sin%where, '*SURFACE '//trim(sin%name)//': the Jacobian of patch '//&
-            trim(sin%patch)//' vanishes or changes sign along side '//side_name(sin%side)// &
-            ', so the outward normal is undefined (inverted or degenerate patch)')
-        return
-      end if
-      e0 = findloc(model%patch, ip, dim=1) - 1
-      elem = elem + e0
+      n0 = error_count()
+      call patch_sides(model, sin, nseg, nens, conn, wgt, ext, elem)
+      if (error_count() > n0) return
       allocate(kinds(nseg))
       kinds = SEG_BEZIER
       call surface_init(surf, sin%name, kinds, nens, conn, model%x0, wgt=wgt, &
@@ -213,6 +196,77 @@ contains
           model%x0, elem=elem(1:nseg))
     end if
   end subroutine build_surface
+
+  !> The rational Bezier segments of the patch sides of a surface (PATCH=, SIDE= of the card
+  !! and of its data lines), side after side: nodes per segment, global nodes (:, nseg),
+  !! weights, extraction operators and model elements.
+  subroutine patch_sides(model, sin, nseg, nens, conn, wgt, ext, elem)
+    type(model_t), intent(in) :: model
+    type(surface_in_t), intent(in) :: sin
+    integer, intent(out) :: nseg
+    integer, allocatable, intent(out) :: nens(:), conn(:,:), elem(:)
+    real(dp), allocatable, intent(out) :: wgt(:,:), ext(:,:,:)
+    integer, allocatable :: nens1(:), conn1(:,:), elem1(:), sc(:)
+    real(dp), allocatable :: wgt1(:,:), ext1(:,:,:)
+    character(len=str_len), allocatable :: sp(:)
+    character(len=:), allocatable :: w
+    integer :: ip, ierr, e0, k, m, nm, n1, pmax
+    if (allocated(sin%side_code)) then
+      sp = sin%side_patch
+      sc = sin%side_code
+    else
+      sp = [sin%patch]
+      sc = [sin%side]
+    end if
+    pmax = 1
+    m = 0
+    do k = 1, size(sc)
+      ip = patch_index(model, sp(k))
+      if (ip == 0) cycle
+      pmax = max(pmax, maxval(model%patches(ip)%p))
+      m = m + 2*sum(model%patches(ip)%nel)
+    end do
+    nm = pmax + 1
+    allocate(nens(m), conn(nm, m), wgt(nm, m), ext(nm, nm, m), elem(m))
+    conn = 0
+    wgt = 1.0_dp
+    ext = 0.0_dp
+    nseg = 0
+    do k = 1, size(sc)
+      w = trim(sin%where)
+      if (allocated(sin%side_code)) w = trim(sin%entry_where(k))
+      ip = patch_index(model, sp(k))
+      if (ip == 0) then
+        call input_error(w, '*SURFACE '//trim(sin%name)//': patch '// &
+            trim(sp(k))//' is not defined by a *PATCH card')
+        cycle
+      end if
+      call patch_side_segments(model%patches(ip), model%patch_offset(ip), sc(k), n1, &
+          nens1, conn1, wgt1, ext1, elem1, ierr, node=patch_nodes(model, ip))
+      if (ierr == 1) then
+        call input_error(w, '*SURFACE '//trim(sin%name)//': patch side '// &
+            side_name(sc(k))//' does not exist (expected XI0, XI1, ETA0, ETA1 or ALL)')
+        cycle
+      else if (ierr == 2) then
+        call input_error(w, '*SURFACE '//trim(sin%name)//': the Jacobian of patch '//&
+            trim(sp(k))//' vanishes or changes sign along side '//side_name(sc(k))// &
+            ', so the outward normal is undefined (inverted or degenerate patch)')
+        cycle
+      end if
+      e0 = findloc(model%patch, ip, dim=1) - 1
+      nens(nseg+1:nseg+n1) = nens1
+      conn(1:size(conn1, 1), nseg+1:nseg+n1) = conn1
+      wgt(1:size(wgt1, 1), nseg+1:nseg+n1) = wgt1
+      ext(1:size(ext1, 1), 1:size(ext1, 2), nseg+1:nseg+n1) = ext1
+      elem(nseg+1:nseg+n1) = elem1 + e0
+      nseg = nseg + n1
+    end do
+    nens = nens(1:nseg)
+    conn = conn(:, 1:nseg)
+    wgt = wgt(:, 1:nseg)
+    ext = ext(:, :, 1:nseg)
+    elem = elem(1:nseg)
+  end subroutine patch_sides
 
   !> Faces of a TYPE=ELEMENT surface: node lists (3, nseg), nodes per face, elements.
   subroutine element_faces(deck, model, emap, sin, nseg, conn, nens, elem)

@@ -18,12 +18,13 @@ module ictus_app_build_model
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   use ictus_materials_material, only: material_make_law, material_t
-  use ictus_solver_model, only: model_t, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, &
-      MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
+  use ictus_solver_model, only: model_t, model_kinematics, patch_node, patch_nodes, FORCE_AUTO, &
+      FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, VAR_PEEQ
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
+  use ictus_app_merge_patches, only: merge_patch_points
   implicit none
   private
   public :: build_model, element_where, resolve_node_set, resolve_elem_set, patch_index
@@ -272,19 +273,30 @@ contains
   end function patch_index
 
   !> Global numbering: FE nodes in deck order, then each patch's control points (direction 1
-  !! fastest). Control points get the ids max(FE id) + 1, + 2, ...
+  !! fastest), where control points merged into an earlier one (*PATCH, MERGE=YES) take that
+  !! one's number. Control points get the ids max(FE id) + 1, + 2, ...
   subroutine build_nodes(deck, model, node_map, nfe)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
     type(id_map_t), intent(out) :: node_map
     integer, intent(out) :: nfe
-    integer :: ncp, ip, k, n, next_id
+    integer :: ip, k, n, g, next_id
+    logical, allocatable :: seen(:)
     nfe = deck%n_nodes
-    ncp = 0
+    n = nfe
     do ip = 1, model%npatch
-      ncp = ncp + model%patches(ip)%n(1)*model%patches(ip)%n(2)
+      model%patch_offset(ip) = n
+      n = n + model%patches(ip)%n(1)*model%patches(ip)%n(2)
     end do
-    model%nn = nfe + ncp
+    model%nn = n
+    if (any(deck%patches(1:model%npatch)%merge)) then
+      call merge_patch_points(model%patches, model%patch_offset, &
+          deck%patches(1:model%npatch)%merge, deck%patches(1:model%npatch)%where, n, &
+          model%cp_node, model%nn)
+      model%nmerged = n - model%nn
+      ! nothing merged: the plain numbering
+      if (model%nmerged == 0) deallocate(model%cp_node)
+    end if
     allocate(model%x0(2, model%nn), model%weight(model%nn), model%node_id(model%nn))
     if (nfe > 0) then
       model%x0(:, 1:nfe) = deck%node_x(:, 1:nfe)
@@ -294,16 +306,16 @@ contains
       next_id = 1
     end if
     model%weight = 1.0_dp
-    n = nfe
+    allocate(seen(model%nn), source=.false.)
     do ip = 1, model%npatch
-      model%patch_offset(ip) = n
       associate (pt => model%patches(ip))
         do k = 1, pt%n(1)*pt%n(2)
-          n = n + 1
-          model%x0(:, n) = pt%cp(1:2, k)
-          model%weight(n) = pt%cp(3, k)
-          model%node_id(n) = next_id
-          next_id = next_id + 1
+          g = patch_node(model, ip, k)
+          if (seen(g)) cycle
+          seen(g) = .true.
+          model%x0(:, g) = pt%cp(1:2, k)
+          model%weight(g) = pt%cp(3, k)
+          model%node_id(g) = next_id + (g - nfe - 1)
         end do
       end associate
     end do
@@ -316,6 +328,7 @@ contains
     type(model_t), intent(inout) :: model
     type(id_map_t), intent(in) :: node_map
     integer :: nel, ib, k, e, a, ip, ie, nen_max, m, g
+    integer, allocatable :: nodes(:)
     nel = 0
     nen_max = 0
     do ib = 1, deck%n_blocks
@@ -370,6 +383,7 @@ contains
       m = material_index(model, deck%patches(ip)%material)
       if (m == 0) call input_error(deck%patches(ip)%where, '*PATCH: MATERIAL='// &
           trim(deck%patches(ip)%material)//' is not defined by a *MATERIAL card')
+      nodes = patch_nodes(model, ip)
       associate (pt => model%patches(ip))
         do ie = 1, pt%nel(1)*pt%nel(2)
           e = e + 1
@@ -382,7 +396,7 @@ contains
           model%elem_id(e) = ie
           model%patch(e) = ip
           model%patch_elem(e) = ie
-          model%conn(1:pt%nen, e) = model%patch_offset(ip) + pt%ien(:, ie)
+          model%conn(1:pt%nen, e) = nodes(pt%ien(:, ie))
           write(origin%where(e), '(a,i0)') trim(deck%patches(ip)%where)//': patch '// &
               trim(pt%name)//', element ', ie
         end do
@@ -511,7 +525,7 @@ contains
     integer :: i, j, e, ip, id, ios, n
     logical :: found
     logical, allocatable :: emask(:)
-    integer, allocatable :: idx(:)
+    integer, allocatable :: idx(:), nodes(:)
     if (depth > 20) then
       call input_error(where, 'set '//trim(name)//' refers to itself (a cycle of set names)')
       return
@@ -542,9 +556,9 @@ contains
           if (ip == 0) then
             call input_error(s%where, '*NSET: PATCH='//trim(s%patch)//' is not defined')
           else
-            allocate(idx(2*sum(model%patches(ip)%n)))
             call patch_side_points(model%patches(ip), s%side, idx, n)
-            mask(model%patch_offset(ip) + idx(1:n)) = .true.
+            nodes = patch_nodes(model, ip)
+            mask(nodes(idx(1:n))) = .true.
             deallocate(idx)
           end if
         end if

@@ -223,6 +223,23 @@ contains
         this%prev(s) = s2
       end if
     end do
+    ! the sides of several patches of one merged body, in any order: a side that ends where
+    ! another begins shares its end control point (a node) with it
+    first_of = 0
+    do s = 1, this%nseg
+      if (this%kind(s) == SEG_BEZIER .and. this%prev(s) == 0) first_of(this%conn(1, s)) = s
+    end do
+    do s = 1, this%nseg
+      if (this%kind(s) /= SEG_BEZIER .or. this%next(s) /= 0) cycle
+      s2 = first_of(this%conn(this%nen(s), s))
+      if (s2 == 0 .or. s2 == s) cycle
+      if (this%prev(s2) /= 0) cycle
+      tol = 1.0e-8_dp*max(norm2(xe(:, 2, s) - xe(:, 1, s)), norm2(xe(:, 2, s2) - xe(:, 1, s2)))
+      if (norm2(xe(:, 2, s) - xe(:, 1, s2)) <= tol) then
+        this%next(s) = s2
+        this%prev(s2) = s
+      end if
+    end do
   end subroutine link_neighbours
 
   !> Reference end points (2, 2) (t = 0, t = 1) of segment s.
@@ -573,10 +590,14 @@ contains
   !! @param side SIDE_*; @param nseg number of segments; @param nens nodes per segment
   !! (nseg); @param conn (p+1, nseg) global nodes; @param wgt (p+1, nseg);
   !! @param ext (p+1, p+1, nseg); @param elem patch element (nseg);
-  !! @param ierr 0, 1 if the side is unknown, 2 if det J vanishes or changes sign on the side
-  subroutine patch_side_segments(patch, offset, side, nseg, nens, conn, wgt, ext, elem, ierr)
+  !! @param ierr 0, 1 if the side is unknown, 2 if det J vanishes or changes sign on the side;
+  !! @param node global node of each control point (n1*n2), optional: then `offset` is unused
+  !! (a patch whose control points are merged with other patches')
+  subroutine patch_side_segments(patch, offset, side, nseg, nens, conn, wgt, ext, elem, ierr, &
+      node)
     type(patch_t), intent(in) :: patch
     integer, intent(in) :: offset, side
+    integer, intent(in), optional :: node(:)
     integer, intent(out) :: nseg
     integer, allocatable, intent(out) :: nens(:), conn(:,:), elem(:)
     real(dp), allocatable, intent(out) :: wgt(:,:), ext(:,:,:)
@@ -654,7 +675,11 @@ contains
     do k = 1, nseg
       do loc = 1, nens(k)
         wgt(loc, k) = patch%cp(3, conn(loc, k))
-        conn(loc, k) = offset + conn(loc, k)
+        if (present(node)) then
+          conn(loc, k) = node(conn(loc, k))
+        else
+          conn(loc, k) = offset + conn(loc, k)
+        end if
       end do
       if (flip(k)) call reverse_segment(nens(k), conn(:, k), wgt(:, k), ext(:, :, k))
     end do

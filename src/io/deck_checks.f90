@@ -140,7 +140,7 @@ contains
           ior(NAME_ELSET, NAME_NSET))
     end do
     do k = 1, d%n_patches
-      call add_name(t, d%patches(k)%name, ior(NAME_PATCH, NAME_NSET))
+      call add_name(t, d%patches(k)%name, ior(ior(NAME_PATCH, NAME_NSET), NAME_ELSET))
     end do
     do k = 1, d%n_surfaces
       call add_name(t, d%surfaces(k)%name, NAME_SURFACE)
@@ -276,8 +276,15 @@ contains
 
     do s = 1, d%n_surfaces
       if (d%surfaces(s)%kind == SURF_PATCH) then
-        call need(t, d%surfaces(s)%patch, NAME_PATCH, 'patch', d%surfaces(s)%where, &
-            '*SURFACE')
+        if (allocated(d%surfaces(s)%side_patch)) then
+          do k = 1, size(d%surfaces(s)%side_patch)
+            call need(t, d%surfaces(s)%side_patch(k), NAME_PATCH, 'patch', &
+                d%surfaces(s)%entry_where(k), '*SURFACE')
+          end do
+        else
+          call need(t, d%surfaces(s)%patch, NAME_PATCH, 'patch', d%surfaces(s)%where, &
+              '*SURFACE')
+        end if
         cycle
       end if
       do k = 1, size(d%surfaces(s)%elem)

@@ -17,7 +17,7 @@ module ictus_io_deck_echo
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
   use ictus_io_deck_types, only: deck_t, set_in_t, material_in_t, ANALYSIS_PLANE_STRESS, &
-      etype_name, &
+      etype_name, surface_in_t, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
       OP_ELEVATE, CONTACT_NODE_TO_SEGMENT, BC_VELOCITY, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP
   use ictus_solver_model, only: NVAR, VAR_NAMES
@@ -169,6 +169,7 @@ contains
             str(p%size(1))//','//str(p%size(2))
         if (p%dilatation > 0) line = line//', DILATATION='//trim(merge('FULL', 'MEAN', &
             p%dilatation == 1))
+        if (p%merge) line = line//', MERGE=YES'
         call put(t, line)
         if (allocated(p%knots1)) then
           call put(t, '*KNOTS, DIRECTION=1')
@@ -235,7 +236,12 @@ contains
     end do
     do k = 1, d%n_surfaces
       associate (s => d%surfaces(k))
-        if (s%kind == SURF_PATCH) then
+        if (s%kind == SURF_PATCH .and. several_sides(s)) then
+          call put(t, '*SURFACE, NAME='//trim(s%name))
+          do e = 1, size(s%side_code)
+            call put(t, 'PATCH='//trim(s%side_patch(e))//', SIDE='//side_name(s%side_code(e)))
+          end do
+        else if (s%kind == SURF_PATCH) then
           call put(t, '*SURFACE, NAME='//trim(s%name)//', PATCH='//trim(s%patch)// &
               ', SIDE='//side_name(s%side))
         else
@@ -680,4 +686,10 @@ contains
     end function reads_back
   end function real_text
 
+  !> True when a surface of patch sides lists more than one side (echoed as data lines).
+  pure logical function several_sides(s)
+    type(surface_in_t), intent(in) :: s
+    several_sides = .false.
+    if (allocated(s%side_code)) several_sides = size(s%side_code) > 1
+  end function several_sides
 end module ictus_io_deck_echo

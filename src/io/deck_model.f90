@@ -448,7 +448,9 @@ contains
     end do
   end subroutine read_set_list
 
-  !> *SURFACE, NAME=name with PATCH=, SIDE= or TYPE=ELEMENT (data "element or elset, Sk").
+  !> *SURFACE, NAME=name with PATCH=, SIDE= or TYPE=ELEMENT (data "element or elset, Sk"). A
+  !! surface of patch sides may list further sides (several patches of one merged body) as
+  !! data lines "PATCH=name, SIDE=side", with or without PATCH=, SIDE= on the card.
   subroutine read_surface(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -472,11 +474,10 @@ contains
     end do
     if (c%bad) return
     s%where = c%where
-    if (has_param(c, 'PATCH')) then
+    if (has_param(c, 'PATCH') .or. (.not. has_param(c, 'TYPE') .and. side_data(c, rd))) then
       s%kind = SURF_PATCH
-      s%side = side_codes(side)
-      allocate(s%elem(0), s%face(0), s%elset(0), s%entry_where(0))
-      call no_data(c, rd)
+      allocate(s%elem(0), s%face(0), s%elset(0))
+      if (.not. read_surface_sides(c, rd, s, side)) return
     else
       s%kind = SURF_ELEMENT
       if (.not. read_surface_faces(c, rd, s)) return
@@ -485,6 +486,108 @@ contains
     d%n_surfaces = d%n_surfaces + 1
     d%surfaces(d%n_surfaces) = s
   end subroutine read_surface
+
+  !> True when the first data line of a *SURFACE card starts with PATCH= (a surface of patch
+  !! sides given by data lines).
+  logical function side_data(c, rd)
+    type(card_t), intent(in) :: c
+    type(reader_t), intent(in) :: rd
+    character(len=:), allocatable :: t
+    side_data = .false.
+    if (c%last < c%first) return
+    t = upper(no_blanks(rd%src%lines(c%first)%text))
+    side_data = index(t, 'PATCH=') == 1
+  end function side_data
+
+  !> The text without blanks.
+  pure function no_blanks(text) result(t)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: t
+    integer :: i
+    t = ''
+    do i = 1, len(text)
+      if (text(i:i) /= ' ' .and. iachar(text(i:i)) /= 9) t = t//text(i:i)
+    end do
+  end function no_blanks
+
+  !> The patch sides of a *SURFACE: PATCH=, SIDE= of the card (code index `side` of
+  !! side_codes) when given, then one "PATCH=name, SIDE=side" per data line. A side listed
+  !! twice is an error.
+  logical function read_surface_sides(c, rd, s, side) result(ok)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(surface_in_t), intent(inout) :: s
+    integer, intent(in) :: side
+    character(len=*), parameter :: expect = &
+        '*SURFACE: expected "PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL"'
+    character(len=*), parameter :: names(5) = ['XI0 ', 'XI1 ', 'ETA0', 'ETA1', 'ALL ']
+    character(len=:), allocatable :: w, key, val
+    type(token_t), allocatable :: toks(:)
+    integer :: i, n, n0, m, j, k, eq
+    logical :: got(2)
+
+    ok = .false.
+    n0 = merge(1, 0, has_param(c, 'PATCH'))
+    m = n0 + max(c%last - c%first + 1, 0)
+    allocate(s%side_patch(m), s%side_code(m), s%entry_where(m))
+    if (n0 == 1) then
+      s%side_patch(1) = s%patch
+      s%side_code(1) = side_codes(max(side, 1))
+      s%entry_where(1) = c%where
+    end if
+    do i = c%first, c%last
+      w = line_where(rd%src, i)
+      n = n0 + i - c%first + 1
+      call split_values(no_blanks(rd%src%lines(i)%text), toks, m)
+      if (.not. count_ok(m, 2, 2, expect, w)) return
+      got = .false.
+      do j = 1, 2
+        eq = index(toks(j)%s, '=')
+        if (eq < 2 .or. eq == len(toks(j)%s)) then
+          call input_error(w, expect//', found "'//shown(toks(j)%s)//'" in field '//str(j))
+          return
+        end if
+        key = upper(toks(j)%s(1:eq - 1))
+        val = toks(j)%s(eq + 1:)
+        select case (key)
+        case ('PATCH')
+          s%side_patch(n) = val
+          got(1) = .true.
+        case ('SIDE')
+          k = findloc(names, upper(val), dim=1)
+          if (k == 0) then
+            call input_error(w, '*SURFACE: bad value SIDE='//shown(val)// &
+                ' (expected one of XI0, XI1, ETA0, ETA1, ALL)')
+            return
+          end if
+          s%side_code(n) = side_codes(k)
+          got(2) = .true.
+        case default
+          call input_error(w, expect//', found "'//shown(toks(j)%s)//'" in field '//str(j))
+          return
+        end select
+      end do
+      if (.not. all(got)) then
+        call input_error(w, expect//' (each line names one patch and one side)')
+        return
+      end if
+      s%entry_where(n) = w
+    end do
+    do n = 2, size(s%side_code)
+      do j = 1, n - 1
+        if (upper(trim(s%side_patch(j))) == upper(trim(s%side_patch(n))) .and. &
+            s%side_code(j) == s%side_code(n)) then
+          call input_error(s%entry_where(n), '*SURFACE '//trim(s%name)//': side '// &
+              trim(names(findloc(side_codes, s%side_code(n), dim=1)))//' of patch '// &
+              trim(s%side_patch(n))//' is listed twice (first at '//trim(s%entry_where(j))//')')
+          return
+        end if
+      end do
+    end do
+    s%patch = s%side_patch(1)
+    s%side = s%side_code(1)
+    ok = .true.
+  end function read_surface_sides
 
   !> Data of *SURFACE, TYPE=ELEMENT: lines "element id or elset name, S1..S4".
   logical function read_surface_faces(c, rd, s) result(ok)

@@ -21,19 +21,21 @@ module ictus_io_deck_patch
 
 contains
 
-  !> *PATCH, NAME=, MATERIAL=, DEGREE=p1,p2, SIZE=n1,n2 [, DILATATION=FULL|MEAN]: opens a
-  !! patch for *KNOTS and *CONTROL POINTS.
+  !> *PATCH, NAME=, MATERIAL=, DEGREE=p1,p2, SIZE=n1,n2 [, DILATATION=FULL|MEAN]
+  !! [, MERGE=YES|NO]: opens a patch for *KNOTS and *CONTROL POINTS.
   subroutine read_patch(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
     type(patch_in_t) :: p
-    integer :: k
+    integer :: k, merge
 
     rd%patch = -1
-    call check_params(c, 'NAME|MATERIAL|DEGREE|SIZE|DILATATION', '')
+    call check_params(c, 'NAME|MATERIAL|DEGREE|SIZE|DILATATION|MERGE', '')
     call get_name(c, 'NAME', .true., p%name)
     call get_choice(c, 'DILATATION', 'FULL|MEAN', p%dilatation)
+    call get_choice(c, 'MERGE', 'YES|NO', merge)
+    p%merge = merge == 1
     call get_name(c, 'MATERIAL', .true., p%material)
     if (get_ints(c, 'DEGREE', 2, 'p1,p2', p%degree, required=.true.)) then
       if (any(p%degree < 1)) call card_error(c, 'DEGREE='//str(p%degree(1))//','// &

@@ -129,9 +129,13 @@ module ictus_io_deck_types
     !> TYPE=ELEMENT: element set name of each entry ('' when `elem` is used).
     character(len=str_len), allocatable :: elset(:)
     character(len=where_len), allocatable :: entry_where(:)
-    !> PATCH=, SIDE=.
+    !> PATCH=, SIDE= of the card, or of its first data line.
     character(len=str_len) :: patch = ''
     integer :: side = SIDE_NONE
+    !> Patch sides: every PATCH=, SIDE= pair (the card's first, then each data line's; a
+    !! multi-patch body's surface lists several), with the "file:line" of each in entry_where.
+    character(len=str_len), allocatable :: side_patch(:)
+    integer, allocatable :: side_code(:)
     character(len=where_len) :: where = ''
   end type surface_in_t
 
@@ -223,6 +227,9 @@ module ictus_io_deck_types
     logical :: has_cp = .false.
     !> DILATATION=: 0 AUTO (not given), 1 FULL, 2 MEAN (doc/theory.md §2.1).
     integer :: dilatation = 0
+    !> MERGE=YES: control points on its sides that coincide with those of another MERGE=YES
+    !! patch side become one node (a multi-patch body; doc/iga.md §1.1).
+    logical :: merge = .false.
     character(len=where_len) :: where = ''
   end type patch_in_t
 

@@ -11,7 +11,8 @@ module ictus_io_results
   use ictus_elements_types, only: ETYPE_IGA
   use ictus_elements_library, only: etype_name, etype_nen, element_type_count
   use ictus_contact_contact, only: contact_t
-  use ictus_solver_model, only: model_t, NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
+  use ictus_solver_model, only: model_t, patch_nodes
+  use ictus_solver_model, only: NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
       VAR_PEEQ, VAR_RF
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
   use ictus_solver_domain, only: domain_t
@@ -309,7 +310,7 @@ contains
           call h5u_write(gp, 'size', pt%n)
           call h5u_write(gp, 'knots_1', pt%knots1)
           call h5u_write(gp, 'knots_2', pt%knots2)
-          call h5u_write(gp, 'ids', [(model%patch_offset(ip) + k, k = 1, pt%n(1)*pt%n(2))])
+          call h5u_write(gp, 'ids', patch_nodes(model, ip))
           call h5u_close_group(gp)
         end associate
       end do

@@ -14,7 +14,8 @@ module ictus_solver_model
   use ictus_solver_load_spec, only: load_spec_t
   implicit none
   private
-  public :: model_t, model_free, model_kinematics, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
+  public :: model_t, model_free, model_kinematics, patch_node, patch_nodes
+  public :: FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, output_set_t, VAR_U, VAR_V, VAR_A, VAR_S, &
       VAR_E, VAR_MISES, VAR_PEEQ, VAR_RF, NVAR, VAR_NAMES
@@ -81,11 +82,16 @@ module ictus_solver_model
     !! TYPE=VELOCITY; their dofs are also `fixed`, with u_fixed = u_p(0)).
     type(load_spec_t) :: loads
 
-    !> NURBS patches as refined, and the global index of each patch's first control point
-    !! minus one (control point k of patch p is node patch_offset(p) + k).
+    !> NURBS patches as refined, and the index of each patch's first control point minus one
+    !! in the list of all control points before merging (FE nodes first). Control point k of
+    !! patch p is node cp_node(patch_offset(p) + k); without merged patches cp_node is not
+    !! allocated and the node is patch_offset(p) + k (patch_node).
     integer :: npatch = 0
     type(patch_t), allocatable :: patches(:)
     integer, allocatable :: patch_offset(:)
+    integer, allocatable :: cp_node(:)
+    !> Control points merged into another one (*PATCH, MERGE=YES; doc/iga.md §1.1).
+    integer :: nmerged = 0
 
     !> Step: time step (0 = automatic), end time, safety factor for automatic steps,
     !! history and field output intervals (in steps).
@@ -134,6 +140,23 @@ contains
     k%analysis = m%analysis
     k%nlgeom = m%nlgeom
   end function model_kinematics
+
+  !> Global node of control point k of patch ip.
+  pure integer function patch_node(m, ip, k)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: ip, k
+    patch_node = m%patch_offset(ip) + k
+    if (allocated(m%cp_node)) patch_node = m%cp_node(patch_node)
+  end function patch_node
+
+  !> Global nodes of all control points of patch ip (direction 1 fastest).
+  pure function patch_nodes(m, ip) result(nodes)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: ip
+    integer, allocatable :: nodes(:)
+    integer :: k
+    nodes = [(patch_node(m, ip, k), k = 1, m%patches(ip)%n(1)*m%patches(ip)%n(2))]
+  end function patch_nodes
 
   !> Releases everything a model holds.
   subroutine model_free(m)

@@ -27,6 +27,11 @@ contains
       return
     end if
     if (all(model%etype == ETYPE_IGA)) then
+      if (model%nmerged > 0) then
+        lay%reason = 'patches share control points (MERGE=YES), so the model is not a '// &
+            'set of separate lattices'
+        return
+      end if
       allocate(lay%b(model%npatch))
       do p = 1, model%npatch
         n1 = model%patches(p)%n(1)
