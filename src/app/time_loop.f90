@@ -486,6 +486,7 @@ contains
     type(stepper_t), intent(in) :: stp
     real(dp) :: e1, drift
     character(len=:), allocatable :: line
+    integer :: k
     e1 = total_energy(stp%s)
     ! relative to the energy at the start, or with loads (which may start from rest) to the
     ! larger of it and the work done
@@ -501,6 +502,14 @@ contains
           str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &
           ', contact '//str(s%e_contact, 6)//', external work '//str(s%w_ext, 6)// &
           '); drift '//str(drift, 3))
+      do k = 1, stp%contact%npairs
+        associate (p => stp%contact%pairs(k))
+          if (p%outside_total > 0) call warning('contact', 'pair '//trim(p%name)//': '// &
+              str(p%outside_total)//' contact point evaluations over the run penetrated '// &
+              'the other surface but projected beyond its end (no force applied; '// &
+              '/history/contact/'//trim(p%name)//'/outside_points)')
+        end associate
+      end do
       if (stp%failures > 0) call warning('contact', str(int(stp%failures))//' closest-'// &
           'point projections failed during the run (those points were treated as open)')
       line = mass_op_report(mop)

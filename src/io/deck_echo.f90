@@ -316,6 +316,7 @@ contains
         else if (p%mass_penalty > 0.0_dp) then
           line = line//', MASS PENALTY='//real_text(p%mass_penalty)
         end if
+        if (p%stability_warn) line = line//', STABILITY=WARN'
         call put(t, line)
         call put(t, trim(p%first)//', '//trim(p%second))
       end associate
@@ -324,7 +325,8 @@ contains
       associate (w => d%walls(k))
         call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='//real_text(w%point(1))// &
             ','//real_text(w%point(2))//', NORMAL='//real_text(w%normal(1))//','// &
-            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty))
+            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty)// &
+            trim(merge(', STABILITY=WARN', '                ', w%stability_warn)))
         call put(t, trim(w%surface))
       end associate
     end do

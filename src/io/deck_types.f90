@@ -305,6 +305,9 @@ module ictus_io_deck_types
     integer :: algorithm = CONTACT_TWO_HALF_PASS
     !> Bipenalty mass penalty: < 0 none (default), 0 = AUTO, > 0 the given epsilon_m.
     real(dp) :: mass_penalty = -1.0_dp
+    !> STABILITY=WARN: run even when the contact ratio r exceeds its limit (default STOP:
+    !! an input error).
+    logical :: stability_warn = .false.
     character(len=str_len) :: first = ''
     character(len=str_len) :: second = ''
     character(len=where_len) :: where = ''
@@ -316,6 +319,8 @@ module ictus_io_deck_types
     real(dp) :: point(2) = 0.0_dp
     real(dp) :: normal(2) = 0.0_dp
     real(dp) :: penalty = 0.0_dp
+    !> STABILITY=WARN (see contact_pair_in_t).
+    logical :: stability_warn = .false.
     character(len=str_len) :: surface = ''
     character(len=where_len) :: where = ''
   end type rigid_wall_in_t

@@ -62,7 +62,8 @@ module ictus_io_results
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
     !> Contact pairs (lower-case names) and their buffered records: force_first (2),
-    !! force_second (2), max_pressure, max_penetration, active_points, per record.
+    !! force_second (2), max_pressure, max_penetration, active_points, outside_points, per
+    !! record.
     integer :: npairs = 0
     character(len=64), allocatable :: pair_name(:)
     real(dp), allocatable :: cbuf(:,:,:)
@@ -212,7 +213,7 @@ contains
     integer(hid_t) :: g
     integer :: k
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(8, r%npairs, buffer_size))
     if (r%npairs == 0) return
     call h5u_group(r%file, 'history/contact', g)
     call h5u_close_group(g)
@@ -226,6 +227,7 @@ contains
       call h5u_create_ext(g, 'max_pressure', 0, buffer_size)
       call h5u_create_ext(g, 'max_penetration', 0, buffer_size)
       call h5u_create_ext(g, 'active_points', 0, buffer_size, is_integer=.true.)
+      call h5u_create_ext(g, 'outside_points', 0, buffer_size, is_integer=.true.)
       call h5u_close_group(g)
       call h5u_group(r%file, 'contact/'//trim(r%pair_name(k)), g)
       call h5u_close_group(g)
@@ -242,7 +244,7 @@ contains
     do k = 1, r%npairs
       associate (p => contact%pairs(k))
         r%cbuf(:, k, n) = [p%force_first, p%force_second, p%max_pressure, p%max_penetration, &
-            real(p%active_points, dp)]
+            real(p%active_points, dp), real(p%outside_points, dp)]
       end associate
     end do
   end subroutine results_contact
@@ -419,8 +421,8 @@ contains
     character(len=16), allocatable :: names(:)
     character(len=*), parameter :: energies(5) = [character(len=13) :: 'kinetic', 'strain', &
         'contact', 'external_work', 'total']
-    character(len=*), parameter :: cnames(5) = [character(len=15) :: 'force_first', &
-        'force_second', 'max_pressure', 'max_penetration', 'active_points']
+    character(len=*), parameter :: cnames(6) = [character(len=15) :: 'force_first', &
+        'force_second', 'max_pressure', 'max_penetration', 'active_points', 'outside_points']
     call set_paths(r, path)
     r%nn = model%nn
     r%plastic = dissipates(model)
@@ -430,7 +432,7 @@ contains
     call setup_views(r, model, dom)
     call grid_fields(r)
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(7, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(8, r%npairs, buffer_size))
     do k = 1, r%npairs
       r%pair_name(k) = trim(lower(contact%pairs(k)%name))
     end do
@@ -564,6 +566,8 @@ contains
       call h5u_append(g, 'max_penetration', r%col(1:n))
       r%icol(1:n) = nint(r%cbuf(7, k, 1:n))
       call h5u_append(g, 'active_points', r%icol(1:n))
+      r%icol(1:n) = nint(r%cbuf(8, k, 1:n))
+      call h5u_append(g, 'outside_points', r%icol(1:n))
       call h5u_close_group(g)
     end do
     do k = 1, r%nsets

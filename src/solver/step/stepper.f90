@@ -217,6 +217,17 @@ contains
         'correction did not converge'
     stp%failures = stp%failures + contact_failures(stp%contact)
     do kp = 1, stp%contact%npairs
+      associate (p => stp%contact%pairs(kp))
+        ! the first step of the run with outside points: name the time, point and pair
+        if (p%outside_points > 0 .and. p%outside_total == p%outside_points) call warning( &
+            'contact', 'pair '//trim(p%name)//': '//str(p%outside_points)//' contact '// &
+            'point(s) penetrate the other surface but project beyond its end (no force '// &
+            'applied) at t = '//str(stp%s%t + stp%s%dt)//'; the first at ('// &
+            str(p%outside_x(1))//', '//str(p%outside_x(2))//') on surface '// &
+            trim(outside_surface(stp%contact, kp))//' near node '// &
+            str(outside_node_id(stp%contact, kp))//'; extend the surfaces to cover the '// &
+            'contact zone (counted per step in outside_points, doc/contact.md §3)')
+      end associate
       if (stp%contact%pairs(kp)%active_points > 0 .and. .not. stp%was_active(kp)) then
         stp%was_active(kp) = .true.
         call contact_ratio(stp%cs, stp%contact, stp%model%x0, stp%s%u, stp%ops%m_pos, &
@@ -229,6 +240,28 @@ contains
       end if
     end do
   end subroutine contact_between
+
+  !> Name of the surface of pair k that holds its first outside point.
+  function outside_surface(c, k) result(name)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    character(len=:), allocatable :: name
+    integer :: i
+    i = c%pairs(k)%first
+    if (c%pairs(k)%outside_surf == 2) i = c%pairs(k)%second
+    name = '?'
+    if (i >= 1 .and. i <= c%nsurf) name = trim(c%surfaces(i)%name)
+  end function outside_surface
+
+  !> User id of the node nearest to the first outside point of pair k.
+  pure integer function outside_node_id(c, k) result(id)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    id = c%pairs(k)%outside_node
+    if (allocated(c%node_id) .and. id >= 1) then
+      if (id <= size(c%node_id)) id = c%node_id(id)
+    end if
+  end function outside_node_id
 
   !> The contact correction of a step inside a sweep.
   subroutine hook_run(this)
