@@ -21,7 +21,7 @@ module ictus_app_time_loop
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_report
   use ictus_solver_explicit, only: state_t
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
-      stepper_advance, stepper_done, stepper_estimate
+      stepper_advance, stepper_done, stepper_estimate, stepper_last_kinetic
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
   use ictus_solver_fields, only: element_fields_t, element_fields
@@ -31,6 +31,7 @@ module ictus_app_time_loop
   use ictus_io_deck_echo, only: deck_echo
   use ictus_io_results, only: results_t, results_open, results_history, results_field, &
       results_close, history_record_t, results_contact, results_reopen, results_flush, &
+      results_amend_kinetic, &
       results_records, results_element_fields, results_sets, results_want_stress, &
       results_reaction
   use ictus_io_checkpoint, only: checkpoint_t, checkpoint_write, checkpoint_read
@@ -78,6 +79,9 @@ module ictus_app_time_loop
     logical :: energy_warned = .false.
     !> Work of the element fields of a snapshot.
     type(element_fields_t) :: ef
+    !> The step of the history record whose kinetic energy waits for the contact correction
+    !! of its step (-1: none; doc/theory.md §4b).
+    integer :: amend_n = -1
   end type loop_t
 
 contains
@@ -124,6 +128,7 @@ contains
       end if
       n_next = next_event(lp, n)
       call stepper_advance(stp, n_next)
+      call amend_kinetic(lp, stp)
       call check_failure(lp, stp)
       n_next = stp%s%step
       call steps_left(lp, stp)
@@ -131,9 +136,24 @@ contains
       call progress_line(lp, stp, n, n_next)
       n = n_next
     end do
+    call stepper_last_kinetic(stp)
+    call amend_kinetic(lp, stp)
     call end_of_run(lp, stp)
     call results_close(lp%res, 'completed')
   end subroutine time_loop
+
+  !> With contact, the kinetic energy of the last history record is that of the corrected
+  !! v_{n+1/2} (doc/theory.md §4b), known once the stepper has run the record's contact
+  !! correction: it replaces the predictor's value in the buffered record (and in the energy
+  !! at the start when that record is step 0).
+  subroutine amend_kinetic(lp, stp)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(in) :: stp
+    if (lp%amend_n < 0) return
+    call results_amend_kinetic(lp%res, stp%s%e_kin)
+    if (lp%amend_n == 0) lp%e0 = total_energy(stp%s)
+    lp%amend_n = -1
+  end subroutine amend_kinetic
 
   !> Paths, output intervals and the number of steps.
   subroutine loop_setup(lp, opt, deck, model, dt)
@@ -302,6 +322,7 @@ contains
           call results_sets(lp%res, lp%set_vals)
         end if
         call results_history(lp%res, rec)
+        if (stp%contact%npairs > 0) lp%amend_n = n
         if (n == 0) lp%e0 = total_energy(s)
         call check_blowup(lp, stp)
         call check_balance(lp, stp)

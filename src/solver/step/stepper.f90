@@ -25,14 +25,14 @@ module ictus_solver_stepper
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
       force_kind_name, force_stable, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      between_steps_t
+      between_steps_t, state_kinetic
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
   use ictus_solver_loads, only: loads_t, loads_init
   implicit none
   private
   public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
-      stepper_done, stepper_estimate, DT_REFRESH, DT_FLOOR
+      stepper_done, stepper_estimate, stepper_last_kinetic, DT_REFRESH, DT_FLOOR
 
   !> With finite strain the stable step follows the state (doc/theory.md §7.1): it is
   !! estimated anew every DT_REFRESH steps, and a step below DT_FLOOR times the start-up step
@@ -170,6 +170,26 @@ contains
     call check_inverted(stp)
   end subroutine stepper_record
 
+  !> The kinetic energy of the last record (the end of the run), whose step is not advanced:
+  !! with contact, the correction of that step is evaluated for its v_{n+1/2} alone; the
+  !! contact energy, the run's failure and outside-point counts and the pairs' results stay
+  !! those of the record.
+  subroutine stepper_last_kinetic(stp)
+    type(stepper_t), intent(inout) :: stp
+    real(dp) :: e_contact
+    integer(8) :: failures
+    type(contact_t) :: kept
+    if (.not. stp%pending .or. stp%contact%npairs == 0) return
+    e_contact = stp%s%e_contact
+    failures = stp%failures
+    kept = stp%contact
+    call contact_correct(stp%cs, stp%contact, stp%s, stp%mop, stp%dom, stp%model%x0)
+    call state_kinetic(stp%s, stp%mop, stp%dom)
+    stp%contact = kept
+    stp%s%e_contact = e_contact
+    stp%failures = failures
+  end subroutine stepper_last_kinetic
+
   !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
   !! step, then windows of one sweep where the linear lumped stepper has them, single steps
   !! otherwise. Stops early with stp%failure set on a run-time failure, and where the step
@@ -183,6 +203,8 @@ contains
     if (stp%pending) then
       stp%pending = .false.
       call contact_between(stp)
+      ! the kinetic energy of the recorded t_n with the corrected v_{n+1/2}
+      if (stp%contact%npairs > 0) call state_kinetic(stp%s, stp%mop, stp%dom)
       call step_finish(stp%s, stp%dom)
     end if
     do while (stp%s%step < n_to .and. len(stp%failure) == 0)
