@@ -28,7 +28,7 @@ module ictus_io_results
   public :: results_t, results_open, results_history, results_field, results_close, &
       results_reaction, &
       history_record_t, results_contact, results_reopen, results_flush, results_records, &
-      results_element_fields, results_sets, results_want_stress, results_amend_kinetic
+      results_element_fields, results_sets, results_want_stress
 
   !> Records kept in memory before they are appended to the file.
   integer, parameter :: buffer_size = 512
@@ -516,34 +516,18 @@ contains
   subroutine results_history(r, rec)
     type(results_t), intent(inout) :: r
     type(history_record_t), intent(in) :: rec
-    ! a full buffer is written before the new record joins it: the last record stays in the
-    ! buffer until the next one (results_amend_kinetic may still change it)
-    if (r%nbuf == buffer_size) call flush_history(r)
     r%nbuf = r%nbuf + 1
     r%buf(r%nbuf) = rec
+    if (r%nbuf == buffer_size) call flush_history(r)
   end subroutine results_history
 
-  !> Replaces the kinetic energy of the last history record (still buffered: results_history
-  !! keeps it; nothing happens once it has been written).
-  subroutine results_amend_kinetic(r, e_kin)
+  subroutine flush_history(r)
     type(results_t), intent(inout) :: r
-    real(dp), intent(in) :: e_kin
-    if (r%nbuf > 0) r%buf(r%nbuf)%kinetic = e_kin
-  end subroutine results_amend_kinetic
-
-  !> Appends the buffered history records to the file; with keep_last, all but the last,
-  !! which stays buffered (first) for results_amend_kinetic.
-  subroutine flush_history(r, keep_last)
-    type(results_t), intent(inout) :: r
-    logical, intent(in), optional :: keep_last
     integer(hid_t) :: g
     integer :: n, k, j
     real(dp), allocatable :: sv(:,:)
     n = r%nbuf
-    if (present(keep_last)) then
-      if (keep_last) n = n - 1
-    end if
-    if (n <= 0) return
+    if (n == 0) return
     call h5u_group(r%file, 'history', g)
     r%col(1:n) = r%buf(1:n)%time
     call h5u_append(g, 'time', r%col(1:n))
@@ -596,12 +580,7 @@ contains
       call h5u_close_group(g)
     end do
     r%n_written = r%n_written + n
-    if (r%nbuf > n) then
-      r%buf(1) = r%buf(r%nbuf)
-      r%cbuf(:, :, 1) = r%cbuf(:, :, r%nbuf)
-      if (allocated(r%sbuf)) r%sbuf(:, :, :, 1) = r%sbuf(:, :, :, r%nbuf)
-    end if
-    r%nbuf = r%nbuf - n
+    r%nbuf = 0
     call h5u_flush(r%file)
   end subroutine flush_history
 
@@ -642,8 +621,7 @@ contains
     r%n_fields = r%n_fields + 1
     r%field_step = [r%field_step, step]
     r%field_time = [r%field_time, time]
-    ! with contact the last record's kinetic energy is amended after its step's correction
-    call flush_history(r, keep_last=r%npairs > 0)
+    call flush_history(r)
     call xdmf_write(r%xdmf_path, r%path, r%grids, r%field_step, r%field_time)
     ! with several blocks, also one sidecar per block (readers of one mesh per file: meshio)
     if (size(r%grids) > 1) then

@@ -32,7 +32,7 @@ module ictus_solver_stepper
   implicit none
   private
   public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
-      stepper_done, stepper_estimate, stepper_last_kinetic, DT_REFRESH, DT_FLOOR
+      stepper_done, stepper_estimate, stepper_settle, DT_REFRESH, DT_FLOOR
 
   !> With finite strain the stable step follows the state (doc/theory.md §7.1): it is
   !! estimated anew every DT_REFRESH steps, and a step below DT_FLOOR times the start-up step
@@ -57,6 +57,8 @@ module ictus_solver_stepper
     !> Whether the predictor of the current step ran for a record and its contact correction
     !! and displacement update are still to come.
     logical :: pending = .false.
+    !> Whether the contact correction of the pending step has run (stepper_settle).
+    logical :: settled = .false.
     !> Contact: pairs that have been active (their first contact is logged once) and the
     !! closest-point projections that failed so far.
     logical, allocatable :: was_active(:)
@@ -170,25 +172,20 @@ contains
     call check_inverted(stp)
   end subroutine stepper_record
 
-  !> The kinetic energy of the last record (the end of the run), whose step is not advanced:
-  !! with contact, the correction of that step is evaluated for its v_{n+1/2} alone; the
-  !! contact energy, the run's failure and outside-point counts and the pairs' results stay
-  !! those of the record.
-  subroutine stepper_last_kinetic(stp)
+  !> The contact correction of a recorded step n right after its records have taken the
+  !! contact results (those of the last evaluation), and the kinetic energy at t_n with the
+  !! corrected v_{n+1/2} (doc/theory.md §4b) in s%e_kin; `stepper_advance` then only updates
+  !! the displacements of that step. Without contact, or with no recorded step pending,
+  !! nothing happens. At t_0 the kinetic energy stays that of the initial velocities v_0 (the
+  !! predictor's mean is v_0 exactly): a contact active at t = 0 would otherwise add half of
+  !! its first impulse to the initial energy.
+  subroutine stepper_settle(stp)
     type(stepper_t), intent(inout) :: stp
-    real(dp) :: e_contact
-    integer(8) :: failures
-    type(contact_t) :: kept
-    if (.not. stp%pending .or. stp%contact%npairs == 0) return
-    e_contact = stp%s%e_contact
-    failures = stp%failures
-    kept = stp%contact
-    call contact_correct(stp%cs, stp%contact, stp%s, stp%mop, stp%dom, stp%model%x0)
-    call state_kinetic(stp%s, stp%mop, stp%dom)
-    stp%contact = kept
-    stp%s%e_contact = e_contact
-    stp%failures = failures
-  end subroutine stepper_last_kinetic
+    if (.not. stp%pending .or. stp%settled .or. stp%contact%npairs == 0) return
+    call contact_between(stp)
+    if (stp%s%step > 0) call state_kinetic(stp%s, stp%mop, stp%dom)
+    stp%settled = .true.
+  end subroutine stepper_settle
 
   !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
   !! step, then windows of one sweep where the linear lumped stepper has them, single steps
@@ -202,9 +199,8 @@ contains
     hook%stp => stp
     if (stp%pending) then
       stp%pending = .false.
-      call contact_between(stp)
-      ! the kinetic energy of the recorded t_n with the corrected v_{n+1/2}
-      if (stp%contact%npairs > 0) call state_kinetic(stp%s, stp%mop, stp%dom)
+      if (.not. stp%settled) call contact_between(stp)
+      stp%settled = .false.
       call step_finish(stp%s, stp%dom)
     end if
     do while (stp%s%step < n_to .and. len(stp%failure) == 0)
