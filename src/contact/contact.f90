@@ -188,28 +188,28 @@ contains
     r_max = 0.0_dp
     where = ''
     do k = 1, c%npairs
-      ! the pair's own largest ratio first, then kept if it is the largest so far
+      ! the pair's own largest ratio (r, at), then kept if it is the largest so far
       r = 0.0_dp
       at = ''
-      associate (p => c%pairs(k), r_max => r, where => at)
+      associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_WALL)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), c%surfaces(p%first), &
-              p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r_max, where)
+              p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r, at)
         case (PAIR_NODE_TO_SEGMENT)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
-              dt, r_max, where)
+              dt, r, at)
         case default
           call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first, p%curves_first)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
-              dt, r_max, where)
+              dt, r, at)
           call side_ratio(c, p%name, p%penalty, p%eps_m, c%surfaces(p%second), &
               c%surfaces(p%first), p%grid_first, p%curves_first, .true., nn, x, m_diag, dt, &
-              r_max, where)
+              r, at)
         end select
       end associate
       if (present(r_pair)) r_pair(k) = r
