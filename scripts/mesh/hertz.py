@@ -63,6 +63,9 @@ def parser():
     ap.add_argument("--penalty", type=float, default=1.0e5)
     ap.add_argument("--algorithm", default="TWO HALF PASS", choices=["TWO HALF PASS", "NODE TO SEGMENT"])
     ap.add_argument("--dt", type=float, default=5.0e-4)
+    ap.add_argument("--stability", choices=["STOP", "WARN"], default="STOP",
+                    help="STABILITY= of the contact card (WARN: run even where the contact "
+                         "ratio r exceeds 1 at the given dt)")
     ap.add_argument("--t-end", type=float, default=0.9)
     ap.add_argument("--field-every", type=int, default=100)
     ap.add_argument("--plane-stress", action="store_true")
@@ -282,9 +285,11 @@ def deck(a, command):
         if not a.wall and v_low != 0.0:
             out.append(f"LOWER, 2, {v_low!r}\n")
     if a.wall:
-        out.append(f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL=0,1, PENALTY={a.penalty:g}\nUPPER_ARC\n")
+        out.append(f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL=0,1, PENALTY={a.penalty:g}"
+                   + (", STABILITY=WARN" if a.stability == "WARN" else "") + "\nUPPER_ARC\n")
     else:
-        out.append(f"*CONTACT PAIR, NAME=HERTZ, PENALTY={a.penalty:g}, ALGORITHM={a.algorithm}\n"
+        out.append(f"*CONTACT PAIR, NAME=HERTZ, PENALTY={a.penalty:g}, ALGORITHM={a.algorithm}"
+                   + (", STABILITY=WARN" if a.stability == "WARN" else "") + "\n"
                    "LOWER_ARC, UPPER_ARC\n")
     out.append(f"*MASS, TYPE={a.mass}\n")
     if a.alpha > 0.0:

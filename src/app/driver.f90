@@ -158,15 +158,7 @@ contains
           ' steps (a shorter t_end, or a larger dt)')
       call input_failure()
     end if
-    if (contact%npairs > 0) then
-      call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
-          dt, r1, where)
-      call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
-          ' at the start ('//trim(where)//')')
-      if (r1 > 0.5_dp) call warning('contact', 'the stability ratio r = '//str(r1, 4)// &
-          ' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; doc/contact.md §6 '// &
-          'puts the limit of the predictor-corrector penalty at r = 1)')
-    end if
+    if (contact%npairs > 0) call check_contact_ratio(deck, model, dom, ops, contact, cs, dt)
     call check_viz_memory(deck, model, dom)
     call log_summary(model, dom, ops, mop, dt)
     if (opt%check_only) then
@@ -177,6 +169,58 @@ contains
     call log_info(deck_echo(deck, .false.))
     call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
+
+  !> The contact ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of each pair at the start and the
+  !! chosen step (doc/contact.md §6): logged; above 1/2 (the margin of the automatic step) a
+  !! warning; above the limit r = 1 of the predictor-corrector penalty an input error naming
+  !! the pair, r and the largest stable penalty eps/r (r is proportional to eps), unless the
+  !! card has STABILITY=WARN, which runs with a warning.
+  subroutine check_contact_ratio(deck, model, dom, ops, contact, cs, dt)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    type(operators_t), intent(in) :: ops
+    type(contact_t), intent(inout) :: contact
+    type(contact_step_t), intent(inout) :: cs
+    real(dp), intent(in) :: dt
+    real(dp), parameter :: r_limit = 1.0_dp
+    real(dp) :: r1, r_pair(contact%npairs)
+    character(len=256) :: where
+    character(len=:), allocatable :: card, at, msg
+    logical :: warn_only
+    integer :: k
+    call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
+        dt, r1, where, r_pair)
+    call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
+        ' at the start ('//trim(where)//')')
+    if (r1 > 0.5_dp .and. .not. r1 > r_limit) call warning('contact', 'the stability ratio '// &
+        'r = '//str(r1, 4)//' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; '// &
+        'doc/contact.md §6 puts the limit of the predictor-corrector penalty at r = 1)')
+    do k = 1, contact%npairs
+      if (.not. r_pair(k) > r_limit) cycle
+      if (k <= deck%n_pairs) then
+        card = '*CONTACT PAIR'
+        at = trim(deck%pairs(k)%where)
+        warn_only = deck%pairs(k)%stability_warn
+      else
+        card = '*RIGID WALL'
+        at = trim(deck%walls(k - deck%n_pairs)%where)
+        warn_only = deck%walls(k - deck%n_pairs)%stability_warn
+      end if
+      msg = card//' '//trim(contact%pairs(k)%name)//': the contact stability ratio r = '// &
+          'dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r_pair(k), 4)//' at dt = '//str(dt)// &
+          ' exceeds the limit r = 1 of the predictor-corrector penalty (doc/contact.md §6)'// &
+          '; the largest stable penalty at this dt is about PENALTY='// &
+          str(contact%pairs(k)%penalty*r_limit/r_pair(k), 4)//' (given '// &
+          str(contact%pairs(k)%penalty)//')'
+      if (warn_only) then
+        call warning(at, msg//'; running anyway (STABILITY=WARN)')
+      else
+        call input_error(at, msg//', or a smaller dt; STABILITY=WARN runs anyway')
+      end if
+    end do
+    if (error_count() > 0) call input_failure()
+  end subroutine check_contact_ratio
 
   !> The viewing samples of the NURBS elements (src/io/iga_viz.f90) must fit in memory: while
   !! the results file is opened every rank forms the coordinates of all sample points and

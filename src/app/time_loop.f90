@@ -22,7 +22,7 @@ module ictus_app_time_loop
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_report
   use ictus_solver_explicit, only: state_t
   use ictus_solver_stepper, only: stepper_t, stepper_init, stepper_plan, stepper_record, &
-      stepper_advance, stepper_done, stepper_estimate
+      stepper_advance, stepper_done, stepper_estimate, stepper_settle
   use ictus_solver_contact_step, only: contact_step_t
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
   use ictus_solver_fields, only: element_fields_t, element_fields
@@ -80,6 +80,8 @@ module ictus_app_time_loop
     !! |total|), and whether the energy-balance warning has been given.
     real(dp) :: e_max = 0.0_dp
     logical :: energy_warned = .false.
+    !> The contact energy of the last history record.
+    real(dp) :: e_contact_rec = 0.0_dp
     !> Work of the element fields of a snapshot.
     type(element_fields_t) :: ef
   end type loop_t
@@ -139,6 +141,9 @@ contains
       call progress_line(lp, stp, n, n_next)
       n = n_next
     end do
+    ! the end-of-run balance is that of the last record (its contact energy, not that of
+    ! the correction stepper_settle ran after it)
+    stp%s%e_contact = lp%e_contact_rec
     call end_of_run(lp, stp)
     call results_close(lp%res, 'completed')
   end subroutine time_loop
@@ -297,42 +302,76 @@ contains
   end function next_multiple
 
   !> History record (energies, contact) and field snapshot of step n, as due; the energy at
-  !! the start and the blow-up check.
+  !! the start and the blow-up check. With contact the snapshot comes first: the history
+  !! record then runs the contact correction of step n (stepper_settle) for the kinetic
+  !! energy at t_n with the corrected v_{n+1/2} (doc/theory.md §4b), which changes the
+  !! velocities and the pairs' results that the snapshot writes.
   subroutine write_outputs(lp, stp, n)
     type(loop_t), intent(inout) :: lp
     type(stepper_t), intent(inout) :: stp
     integer, intent(in) :: n
-    type(history_record_t) :: rec
-    associate (s => stp%s, model => stp%model, dom => stp%dom)
-      if (due(lp, stp, lp%history, n)) then
-        rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext, &
-            s%e_plastic, s%e_friction)
-        call results_contact(lp%res, stp%contact)
-        if (model%nout_sets > 0) then
-          call set_values(lp, stp)
-          call results_sets(lp%res, lp%set_vals)
-        end if
-        call results_history(lp%res, rec)
-        if (n == 0) lp%e0 = total_energy(s)
-        call check_blowup(lp, stp)
-        call check_balance(lp, stp)
-      end if
-      if (due(lp, stp, lp%field, n)) then
-        ! the viewing samples of NURBS elements read ghost velocities too
-        if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
-        call acceleration(lp, stp)
-        call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, lp%acc, &
-            dom%halo%gid(1:dom%nowned), stp%contact)
-        if (results_want_stress(lp%res)) then
-          call element_fields(model, dom, s%u, s%hist, lp%ef)
-          call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), &
-              model%nel)
-        end if
-        call results_reaction(lp%res, n, s%rf, dom%halo%gid(1:dom%nowned))
-        if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
-      end if
-    end associate
+    if (stp%contact%npairs > 0) then
+      if (due(lp, stp, lp%field, n)) call write_field(lp, stp, n)
+      if (due(lp, stp, lp%history, n)) call write_history(lp, stp, n)
+    else
+      if (due(lp, stp, lp%history, n)) call write_history(lp, stp, n)
+      if (due(lp, stp, lp%field, n)) call write_field(lp, stp, n)
+    end if
   end subroutine write_outputs
+
+  !> The history record of step n (after the predictor with the energies at t_n): contact
+  !! results and node sets as they are, then with contact the correction of step n and the
+  !! kinetic energy with its v_{n+1/2}; the contact energy recorded is that of the last
+  !! evaluation before the correction, as the pairs' results.
+  subroutine write_history(lp, stp, n)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(inout) :: stp
+    integer, intent(in) :: n
+    type(history_record_t) :: rec
+    real(dp) :: e_contact, e_next
+    associate (s => stp%s, model => stp%model)
+      call results_contact(lp%res, stp%contact)
+      if (model%nout_sets > 0) then
+        call set_values(lp, stp)
+        call results_sets(lp%res, lp%set_vals)
+      end if
+      e_contact = s%e_contact
+      call stepper_settle(stp)
+      ! the correction's contact energy belongs to the next record: the checks below see the
+      ! record's
+      e_next = s%e_contact
+      s%e_contact = e_contact
+      rec = history_record_t(s%t, s%dt, s%e_kin, s%e_strain, s%e_contact, s%w_ext, &
+          s%e_plastic, s%e_friction)
+      call results_history(lp%res, rec)
+      if (n == 0) lp%e0 = total_energy(s)
+      call check_blowup(lp, stp)
+      call check_balance(lp, stp)
+      lp%e_contact_rec = e_contact
+      s%e_contact = e_next
+    end associate
+  end subroutine write_history
+
+  !> The field snapshot of step n.
+  subroutine write_field(lp, stp, n)
+    type(loop_t), intent(inout) :: lp
+    type(stepper_t), intent(inout) :: stp
+    integer, intent(in) :: n
+    associate (s => stp%s, model => stp%model, dom => stp%dom)
+      ! the viewing samples of NURBS elements read ghost velocities too
+      if (model%npatch > 0) call halo_exchange(dom%halo, s%v_mid)
+      call acceleration(lp, stp)
+      call results_field(lp%res, model, dom, n, s%t, s%u, s%v_mid, lp%acc, &
+          dom%halo%gid(1:dom%nowned), stp%contact)
+      if (results_want_stress(lp%res)) then
+        call element_fields(model, dom, s%u, s%hist, lp%ef)
+        call results_element_fields(lp%res, n, lp%ef, dom%halo%gid(1:dom%nowned), &
+            model%nel)
+      end if
+      call results_reaction(lp%res, n, s%rf, dom%halo%gid(1:dom%nowned))
+      if (.not. model%nlgeom .and. .not. lp%rotation_warned) call rotation_guard(lp, stp)
+    end associate
+  end subroutine write_field
 
   !> The acceleration at t_n of the owned nodes, (v_{n+1/2} - v_{n-1/2})/dt with the
   !! half-step velocities of the field output: a_n = M^-1(-f_int(u_n)) less the damping
@@ -500,6 +539,7 @@ contains
     type(stepper_t), intent(in) :: stp
     real(dp) :: e1, drift
     character(len=:), allocatable :: line, fw
+    integer :: k
     e1 = total_energy(stp%s)
     ! relative to the energy at the start, or with loads (which may start from rest) to the
     ! larger of it and the work done
@@ -517,6 +557,14 @@ contains
           str(e1, 10)//' (kinetic '//str(s%e_kin, 6)//', strain '//str(s%e_strain, 6)// &
           ', contact '//str(s%e_contact, 6)//', external work '//str(s%w_ext, 6)// &
           fw//'); drift '//str(drift, 3))
+      do k = 1, stp%contact%npairs
+        associate (p => stp%contact%pairs(k))
+          if (p%outside_total > 0) call warning('contact', 'pair '//trim(p%name)//': '// &
+              str(p%outside_total)//' contact point evaluations over the run penetrated '// &
+              'the other surface but projected beyond its end (no force applied; '// &
+              '/history/contact/'//trim(p%name)//'/outside_points)')
+        end associate
+      end do
       if (stp%failures > 0) call warning('contact', str(int(stp%failures))//' closest-'// &
           'point projections failed during the run (those points were treated as open)')
       line = mass_op_report(mop)

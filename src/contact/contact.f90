@@ -250,39 +250,51 @@ contains
   !! (the lower bound of the added masses of contact_forces, whose Gershgorin factor is >= 2).
   !! @param c contact; @param nn nodes; @param x coordinates (2, nn); @param m_diag lumped
   !! nodal masses (nn); @param dt time step; @param r_max largest r (huge for a non-positive
-  !! mass); @param where text naming the worst point (pair, node ids)
-  subroutine contact_stability(c, nn, x, m_diag, dt, r_max, where)
+  !! mass); @param where text naming the worst point (pair, node ids); @param r_pair
+  !! optional (npairs): the largest r of each pair
+  subroutine contact_stability(c, nn, x, m_diag, dt, r_max, where, r_pair)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
     real(dp), intent(in) :: x(2, nn), m_diag(nn), dt
     real(dp), intent(out) :: r_max
     character(len=*), intent(out) :: where
+    real(dp), intent(out), optional :: r_pair(:)
+    character(len=len(where)) :: at
+    real(dp) :: r
     integer :: k
     r_max = 0.0_dp
     where = ''
     do k = 1, c%npairs
+      ! the pair's own largest ratio (r, at), then kept if it is the largest so far
+      r = 0.0_dp
+      at = ''
       associate (p => c%pairs(k))
         select case (p%kind)
         case (PAIR_WALL)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%first), &
-              p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r_max, where)
+              p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r, at)
         case (PAIR_NODE_TO_SEGMENT)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
-              dt, r_max, where)
+              dt, r, at)
         case default
           call update_grid(c%surfaces(p%first), x, p%radius, p%grid_first, p%curves_first)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%second), p%grid_second, p%curves_second, .true., nn, x, m_diag, &
-              dt, r_max, where)
+              dt, r, at)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%second), &
               c%surfaces(p%first), p%grid_first, p%curves_first, .true., nn, x, m_diag, dt, &
-              r_max, where)
+              r, at)
         end select
       end associate
+      if (present(r_pair)) r_pair(k) = r
+      if (r > r_max .or. len_trim(where) == 0) then
+        r_max = r
+        where = at
+      end if
     end do
   end subroutine contact_stability
 

@@ -19,7 +19,7 @@ module ictus_contact_pair
       segment_shape, segment_curve_t, surface_curves
   use ictus_contact_search, only: search_grid_t, grid_init, grid_build, grid_query
   use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
-      PROJ_CORNER
+      PROJ_CORNER, PROJ_OUTSIDE
   implicit none
   private
   public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
@@ -80,6 +80,15 @@ module ictus_contact_pair
     real(dp) :: energy = 0.0_dp
     integer :: failures = 0
     integer(i8) :: failures_total = 0
+    !> Outside points (doc/contact.md §3): contact points that lie behind the other surface
+    !! (d < 0 on the inner side of its end tangent) but project beyond one of its ends, so
+    !! get no force; in the last call, in all calls, and the first one of the last call:
+    !! its coordinates, the surface it belongs to (1 first, 2 second) and its nearest node.
+    integer :: outside_points = 0
+    integer(i8) :: outside_total = 0
+    real(dp) :: outside_x(2) = 0.0_dp
+    integer :: outside_surf = 0
+    integer :: outside_node = 0
     !> Contact points of the first surface (Gauss points, or nodes for NODE TO SEGMENT):
     !! current coordinates (2, npoints) and pressure eps gp (npoints), 0 where open.
     integer :: npoints = 0
@@ -197,6 +206,9 @@ contains
     pair%failures = 0
     pair%fr%force = 0.0_dp
     pair%fr%dwork = 0.0_dp
+    pair%outside_points = 0
+    pair%outside_surf = 0
+    pair%outside_node = 0
   end subroutine pair_reset_results
 
   !> Rebuilds a search grid over the current bounding boxes of a master surface's segments,
@@ -248,8 +260,11 @@ contains
   !! of this half-pass's points in it (0: the first surface, whose tangential resultant goes
   !! to fr%force) and the committed coordinates (2, nn); the frictional work of the points is
   !! added to fr%dwork and their elastic tangential energy to `energy`
+  !! @param nout optional: outside points (behind the master, projected beyond its end),
+  !! accumulated; @param out_x, out_g: the first one's coordinates and nearest slave node,
+  !! set when nout goes from 0 to 1
   pure subroutine half_pass(slave, master, grid, curves, x, eps, cand, fc, force, energy, &
-      pmax, gmax, nact, nfail, xout, pout, eps_m, dm, fr, off, xprev)
+      pmax, gmax, nact, nfail, xout, pout, eps_m, dm, fr, off, xprev, nout, out_x, out_g)
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
     type(segment_curve_t), intent(in) :: curves(:)
@@ -263,6 +278,8 @@ contains
     type(friction_t), intent(inout), optional :: fr
     integer, intent(in), optional :: off
     real(dp), intent(in), optional :: xprev(:,:)
+    integer, intent(inout), optional :: nout, out_g
+    real(dp), intent(inout), optional :: out_x(2)
     type(projection_t) :: pr
     real(dp) :: xq(2), gp, tr(2), wj, sm, tau(2), dg, tt, dw, et
     real(dp) :: rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
@@ -283,6 +300,13 @@ contains
       if (present(xout)) xout(:, q) = xq
       if (present(pout)) pout(q) = eps*gp
       if (fric) fr%t_new(off + q) = 0.0_dp
+      if (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp .and. present(nout)) then
+        nout = nout + 1
+        if (nout == 1 .and. present(out_x) .and. present(out_g)) then
+          out_x = xq
+          out_g = slave%conn(maxloc(slave%gp_r(1:slave%nen(s), q), 1), s)
+        end if
+      end if
       if (gp <= 0.0_dp) cycle
       wj = slave%gp_wj(q)
       tr = eps*gp*pr%normal
@@ -332,8 +356,14 @@ contains
     real(dp), intent(in) :: x(:,:), xprev(:,:)
     real(dp), intent(inout) :: fc(:,:)
     real(dp), intent(inout), optional :: dm(:)
-    real(dp) :: e1, e2
+    real(dp) :: e1, e2, x2(2)
+    integer :: n1, n2, g1, g2
     call pair_reset_results(pair)
+    n1 = 0
+    n2 = 0
+    g1 = 0
+    g2 = 0
+    x2 = 0.0_dp
     call update_grid(s1, x, pair%radius, pair%grid_first, pair%curves_first)
     call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
     e1 = 0.0_dp
@@ -344,36 +374,41 @@ contains
         call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
             pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm, &
-            pair%fr, 0, xprev)
+            pair%fr, 0, xprev, nout=n1, out_x=pair%outside_x, out_g=g1)
         call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
             pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm, fr=pair%fr, &
-            off=s1%ngp, xprev=xprev)
+            off=s1%ngp, xprev=xprev, nout=n2, out_x=x2, out_g=g2)
       else
         call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
             pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, pair%x, pair%pressure, fr=pair%fr, off=0, &
-            xprev=xprev)
+            xprev=xprev, nout=n1, out_x=pair%outside_x, out_g=g1)
         call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
             pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
-            pair%active_points, pair%failures, fr=pair%fr, off=s1%ngp, xprev=xprev)
+            pair%active_points, pair%failures, fr=pair%fr, off=s1%ngp, xprev=xprev, &
+            nout=n2, out_x=x2, out_g=g2)
       end if
       pair%fr%dwork = 0.5_dp*pair%fr%dwork
     else if (present(dm) .and. pair%eps_m > 0.0_dp) then
       call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
           pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
-          pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm)
+          pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm, &
+          nout=n1, out_x=pair%outside_x, out_g=g1)
       call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
           pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
-          pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm)
+          pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm, nout=n2, out_x=x2, &
+          out_g=g2)
     else
       call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
           pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
-          pair%active_points, pair%failures, pair%x, pair%pressure)
+          pair%active_points, pair%failures, pair%x, pair%pressure, nout=n1, &
+          out_x=pair%outside_x, out_g=g1)
       call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
           pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
-          pair%active_points, pair%failures)
+          pair%active_points, pair%failures, nout=n2, out_x=x2, out_g=g2)
     end if
+    call note_outside(pair, n1, n2, g1, g2, x2)
     pair%energy = 0.5_dp*(e1 + e2)
     pair%failures_total = pair%failures_total + pair%failures
   end subroutine two_half_pass_forces
@@ -407,6 +442,14 @@ contains
       pair%x(:, k) = xs
       pair%pressure(k) = pair%penalty*gp
       if (pair%fr%on) pair%fr%t_new(k) = 0.0_dp
+      if (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp) then
+        pair%outside_points = pair%outside_points + 1
+        if (pair%outside_points == 1) then
+          pair%outside_x = xs
+          pair%outside_surf = 1
+          pair%outside_node = g
+        end if
+      end if
       if (gp <= 0.0_dp) cycle
       fs = pair%penalty*gp*s1%ell(k)*pr%normal
       call segment_shape(s2, pr%seg, pr%t, r, dr, ddr)
@@ -442,5 +485,27 @@ contains
       pair%active_points = pair%active_points + 1
     end do
     pair%failures_total = pair%failures_total + pair%failures
+    pair%outside_total = pair%outside_total + pair%outside_points
   end subroutine node_to_segment_forces
+
+  !> Sets the outside-point results of a pair from its two half-passes: n1, n2 points of the
+  !! first and second surface, g1, g2 their first points' nearest nodes; the first point of
+  !! the first surface (coordinates already in pair%outside_x) is named before that of the
+  !! second (x2). Adds the count to the run total (TWO HALF PASS; NODE TO SEGMENT counts
+  !! its nodes itself).
+  pure subroutine note_outside(pair, n1, n2, g1, g2, x2)
+    type(contact_pair_t), intent(inout) :: pair
+    integer, intent(in) :: n1, n2, g1, g2
+    real(dp), intent(in) :: x2(2)
+    pair%outside_points = n1 + n2
+    if (n1 > 0) then
+      pair%outside_surf = 1
+      pair%outside_node = g1
+    else if (n2 > 0) then
+      pair%outside_surf = 2
+      pair%outside_node = g2
+      pair%outside_x = x2
+    end if
+    pair%outside_total = pair%outside_total + pair%outside_points
+  end subroutine note_outside
 end module ictus_contact_pair

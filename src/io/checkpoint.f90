@@ -88,6 +88,9 @@ contains
       associate (p => contact%pairs(k))
         call h5u_group(f, 'pair'//str(k), g)
         call h5u_attr_int(g, 'was_active', merge(1, 0, ck%was_active(k)))
+        call h5u_attr_int(g, 'outside_points', p%outside_points)
+        call h5u_attr_int(g, 'outside_total', int(min(p%outside_total, &
+            int(huge(1), kind(p%outside_total)))))
         call h5u_write(g, 'values', [p%force_first, p%force_second, p%max_pressure, &
             p%max_penetration, real(p%active_points, dp), p%energy])
         if (p%npoints > 0) then
@@ -177,6 +180,8 @@ contains
       associate (p => contact%pairs(k))
         call h5u_group(f, 'pair'//str(k), g)
         ck%was_active(k) = h5u_read_attr_int(g, 'was_active') == 1
+        p%outside_points = h5u_read_attr_int(g, 'outside_points')
+        p%outside_total = h5u_read_attr_int(g, 'outside_total')
         call h5u_read(g, 'values', vals)
         p%force_first = vals(1:2)
         p%force_second = vals(3:4)

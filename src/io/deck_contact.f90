@@ -21,8 +21,8 @@ module ictus_io_deck_contact
 contains
 
   !> *CONTACT PAIR, NAME=, PENALTY=, [ALGORITHM=], [MASS PENALTY=AUTO|value],
-  !! [INTERACTION=name], [TANGENTIAL PENALTY=value]: one data line "first surface, second
-  !! surface".
+  !! [INTERACTION=name], [TANGENTIAL PENALTY=value], [STABILITY=STOP|WARN]: one data line
+  !! "first surface, second surface".
   subroutine read_contact_pair(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -36,13 +36,15 @@ contains
     integer :: kind, i, n, k
     logical :: ok
 
-    call check_params(c, 'NAME|PENALTY|ALGORITHM|MASS PENALTY|INTERACTION|TANGENTIAL PENALTY', &
-        '')
+    call check_params(c, 'NAME|PENALTY|ALGORITHM|MASS PENALTY|INTERACTION|TANGENTIAL PENALTY|'// &
+        'STABILITY', '')
     call get_name(c, 'NAME', .true., p%name)
     call get_positive(c, 'PENALTY', p%penalty)
     call get_interaction(c, p%interaction, p%tangential_penalty)
     call get_choice(c, 'ALGORITHM', 'TWO HALF PASS|NODE TO SEGMENT', kind)
     if (kind == 2) p%algorithm = CONTACT_NODE_TO_SEGMENT
+    call get_choice(c, 'STABILITY', 'STOP|WARN', kind)
+    p%stability_warn = kind == 2
     if (get_param(c, 'MASS PENALTY', v)) then
       if (upper(v) == 'AUTO') then
         p%mass_penalty = 0.0_dp
@@ -74,7 +76,7 @@ contains
   end subroutine read_contact_pair
 
   !> *RIGID WALL, NAME=, POINT=x0,y0, NORMAL=nx,ny, PENALTY=, [INTERACTION=name],
-  !! [TANGENTIAL PENALTY=value]: one data line "surface".
+  !! [TANGENTIAL PENALTY=value], [STABILITY=STOP|WARN]: one data line "surface".
   subroutine read_rigid_wall(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -82,9 +84,10 @@ contains
     character(len=*), parameter :: expect = '*RIGID WALL: expected "surface"'
     type(rigid_wall_in_t) :: wl
     type(token_t), allocatable :: toks(:)
-    integer :: i, n, k
+    integer :: i, n, k, kind
 
-    call check_params(c, 'NAME|POINT|NORMAL|PENALTY|INTERACTION|TANGENTIAL PENALTY', '')
+    call check_params(c, 'NAME|POINT|NORMAL|PENALTY|INTERACTION|TANGENTIAL PENALTY|STABILITY', &
+        '')
     call get_name(c, 'NAME', .true., wl%name)
     call get_interaction(c, wl%interaction, wl%tangential_penalty)
     if (get_reals(c, 'POINT', 2, 'x0,y0', wl%point, required=.true.)) continue
@@ -93,6 +96,8 @@ contains
           'a non-zero direction nx,ny pointing into the allowed side)')
     end if
     call get_positive(c, 'PENALTY', wl%penalty)
+    call get_choice(c, 'STABILITY', 'STOP|WARN', kind)
+    wl%stability_warn = kind == 2
     do k = 1, d%n_walls
       if (d%walls(k)%name == wl%name .and. len_trim(wl%name) > 0) call card_error(c, &
           'duplicate rigid wall name '//trim(wl%name)//' (first defined at '// &

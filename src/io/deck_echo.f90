@@ -354,6 +354,7 @@ contains
         else if (p%mass_penalty > 0.0_dp) then
           line = line//', MASS PENALTY='//real_text(p%mass_penalty)
         end if
+        if (p%stability_warn) line = line//', STABILITY=WARN'
         call put(t, line//interaction_text(p%interaction, p%tangential_penalty))
         call put(t, trim(p%first)//', '//trim(p%second))
       end associate
@@ -363,7 +364,8 @@ contains
         call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='//real_text(w%point(1))// &
             ','//real_text(w%point(2))//', NORMAL='//real_text(w%normal(1))//','// &
             real_text(w%normal(2))//', PENALTY='//real_text(w%penalty)// &
-            interaction_text(w%interaction, w%tangential_penalty))
+            interaction_text(w%interaction, w%tangential_penalty)// &
+            trim(merge(', STABILITY=WARN', '                ', w%stability_warn)))
         call put(t, trim(w%surface))
       end associate
     end do

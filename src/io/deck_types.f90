@@ -316,6 +316,9 @@ module ictus_io_deck_types
     !> INTERACTION= (a *SURFACE INTERACTION; '' none) and TANGENTIAL PENALTY= (0: PENALTY).
     character(len=str_len) :: interaction = ''
     real(dp) :: tangential_penalty = 0.0_dp
+    !> STABILITY=WARN: run even when the contact ratio r exceeds its limit (default STOP:
+    !! an input error).
+    logical :: stability_warn = .false.
     character(len=str_len) :: first = ''
     character(len=str_len) :: second = ''
     character(len=where_len) :: where = ''
@@ -330,6 +333,8 @@ module ictus_io_deck_types
     !> INTERACTION= (a *SURFACE INTERACTION; '' none) and TANGENTIAL PENALTY= (0: PENALTY).
     character(len=str_len) :: interaction = ''
     real(dp) :: tangential_penalty = 0.0_dp
+    !> STABILITY=WARN (see contact_pair_in_t).
+    logical :: stability_warn = .false.
     character(len=str_len) :: surface = ''
     character(len=where_len) :: where = ''
   end type rigid_wall_in_t

@@ -67,8 +67,8 @@ module ictus_io_results
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
     !> Contact pairs (lower-case names) and their buffered records: force_first (2),
-    !! force_second (2), max_pressure, max_penetration, active_points, friction_force (2),
-    !! per record; whether each pair has friction.
+    !! force_second (2), max_pressure, max_penetration, active_points, outside_points,
+    !! friction_force (2), per record; whether each pair has friction.
     integer :: npairs = 0
     character(len=64), allocatable :: pair_name(:)
     logical, allocatable :: pair_friction(:)
@@ -221,7 +221,7 @@ contains
     integer(hid_t) :: g
     integer :: k
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(9, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(10, r%npairs, buffer_size))
     r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     if (r%npairs == 0) return
     call h5u_group(r%file, 'history/contact', g)
@@ -236,6 +236,7 @@ contains
       call h5u_create_ext(g, 'max_pressure', 0, buffer_size)
       call h5u_create_ext(g, 'max_penetration', 0, buffer_size)
       call h5u_create_ext(g, 'active_points', 0, buffer_size, is_integer=.true.)
+      call h5u_create_ext(g, 'outside_points', 0, buffer_size, is_integer=.true.)
       if (r%pair_friction(k)) call h5u_create_ext(g, 'friction_force', 2, buffer_size)
       call h5u_close_group(g)
       call h5u_group(r%file, 'contact/'//trim(r%pair_name(k)), g)
@@ -253,7 +254,7 @@ contains
     do k = 1, r%npairs
       associate (p => contact%pairs(k))
         r%cbuf(:, k, n) = [p%force_first, p%force_second, p%max_pressure, p%max_penetration, &
-            real(p%active_points, dp), p%fr%force]
+            real(p%active_points, dp), real(p%outside_points, dp), p%fr%force]
       end associate
     end do
   end subroutine results_contact
@@ -430,8 +431,8 @@ contains
     character(len=16), allocatable :: names(:)
     character(len=*), parameter :: energies(5) = [character(len=13) :: 'kinetic', 'strain', &
         'contact', 'external_work', 'total']
-    character(len=*), parameter :: cnames(5) = [character(len=15) :: 'force_first', &
-        'force_second', 'max_pressure', 'max_penetration', 'active_points']
+    character(len=*), parameter :: cnames(6) = [character(len=15) :: 'force_first', &
+        'force_second', 'max_pressure', 'max_penetration', 'active_points', 'outside_points']
     call set_paths(r, path)
     r%nn = model%nn
     r%plastic = dissipates(model)
@@ -442,7 +443,7 @@ contains
     call grid_fields(r)
     r%npairs = contact%npairs
     r%friction = contact%friction
-    allocate(r%pair_name(r%npairs), r%cbuf(9, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(10, r%npairs, buffer_size))
     r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     do k = 1, r%npairs
       r%pair_name(k) = trim(lower(contact%pairs(k)%name))
@@ -584,8 +585,10 @@ contains
       call h5u_append(g, 'max_penetration', r%col(1:n))
       r%icol(1:n) = nint(r%cbuf(7, k, 1:n))
       call h5u_append(g, 'active_points', r%icol(1:n))
+      r%icol(1:n) = nint(r%cbuf(8, k, 1:n))
+      call h5u_append(g, 'outside_points', r%icol(1:n))
       if (r%pair_friction(k)) then
-        r%col2(:, 1:n) = r%cbuf(8:9, k, 1:n)
+        r%col2(:, 1:n) = r%cbuf(9:10, k, 1:n)
         call h5u_append(g, 'friction_force', r%col2(:, 1:n))
       end if
       call h5u_close_group(g)

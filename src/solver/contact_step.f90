@@ -266,13 +266,15 @@ contains
   end subroutine predicted_forces
 
   !> The stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of doc/contact.md §6 on the current
-  !! coordinates (u: local displacements) with the positive lumped masses m_pos (local).
-  subroutine contact_ratio(cs, c, x0, u, m_pos, dt, r, where)
+  !! coordinates (u: local displacements) with the positive lumped masses m_pos (local);
+  !! r_pair (optional, npairs): the largest r of each pair.
+  subroutine contact_ratio(cs, c, x0, u, m_pos, dt, r, where, r_pair)
     type(contact_step_t), intent(inout) :: cs
     type(contact_t), intent(inout) :: c
     real(dp), intent(in) :: x0(:,:), u(:,:), m_pos(:), dt
     real(dp), intent(out) :: r
     character(len=*), intent(out) :: where
+    real(dp), intent(out), optional :: r_pair(:)
     real(dp), allocatable :: mg(:), mk(:)
     integer :: k, l
     call gather_contact_nodes(cs, x0, u, 1.0_dp)
@@ -284,7 +286,7 @@ contains
     end do
     call allreduce_sum(mk)
     mg(cs%cnode) = mk
-    call contact_stability(c, size(x0, 2), cs%xg, mg, dt, r, where)
+    call contact_stability(c, size(x0, 2), cs%xg, mg, dt, r, where, r_pair)
   end subroutine contact_ratio
 
   !> omega_max with the contact active: power iteration on (M + D)^-1 (K + K_p) at the

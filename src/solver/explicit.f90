@@ -44,7 +44,7 @@ module ictus_solver_explicit
   implicit none
   private
   public :: state_t, state_init, step_predict, step_finish, state_energies, between_steps_t, &
-      add_damping_work
+      add_damping_work, state_kinetic
 
   !> Work between the predictor and the displacement update of a step inside a sweep (the
   !! contact correction), on s%u = u_n, s%v = v_pre and s%u_next = u_pre: whoever runs the
@@ -379,12 +379,24 @@ contains
     type(force_op_t), intent(inout) :: fop
     type(mass_op_t), intent(in) :: mop
     type(domain_t), intent(inout) :: dom
-    if (mop%consistent) call halo_exchange(dom%halo, s%v_mid)
-    call mass_apply(mop, s%v_mid, s%mv)
-    s%e_kin = 0.5_dp*repro_dot(s%nn, s%v_mid, s%mv, s%nglobal)
+    call state_kinetic(s, mop, dom)
     s%e_strain = force_energy(fop, s%u, s%f)
     s%e_plastic = force_dissipation(fop)
     s%w_ext = s%w_acc
     s%e_time = s%t
   end subroutine state_energies
+
+  !> Kinetic energy at t_n, 1/2 v_n.M v_n with v_n = (v_{n-1/2} + v_{n+1/2})/2 from s%v_old
+  !! and s%v (also left in s%v_mid). Called by the predictor of a recorded step, and again
+  !! after that step's contact correction, which changes v_{n+1/2}: with the corrected
+  !! velocity the discrete energy balance of doc/theory.md §4b holds exactly.
+  subroutine state_kinetic(s, mop, dom)
+    type(state_t), intent(inout) :: s
+    type(mass_op_t), intent(in) :: mop
+    type(domain_t), intent(inout) :: dom
+    s%v_mid(:, 1:s%nn) = 0.5_dp*(s%v_old(:, 1:s%nn) + s%v(:, 1:s%nn))
+    if (mop%consistent) call halo_exchange(dom%halo, s%v_mid)
+    call mass_apply(mop, s%v_mid, s%mv)
+    s%e_kin = 0.5_dp*repro_dot(s%nn, s%v_mid, s%mv, s%nglobal)
+  end subroutine state_kinetic
 end module ictus_solver_explicit

@@ -6,7 +6,8 @@ scripts/mesh/hertz.py with the arguments listed here (the command is line 1 of t
 
 Time steps: the paper's cases run at its dt = 5e-4 on 8 x 8 meshes (omega_max dt and the
 contact ratio r in doc/verification.md §2). The refinement series keeps r (as printed by ictus)
-near 1 for IGA, dt = 5e-4 * 8/n, and omega_max dt <= 1.65; Q8 has a larger omega_max (its
+near 1 for IGA, dt = 5e-4 * 8/n (16 x 16 reaches r = 1.006 and runs with STABILITY=WARN),
+and omega_max dt <= 1.65; Q8 has a larger omega_max (its
 degenerate-corner elements) and needs the smaller steps listed.
 """
 import os
@@ -38,12 +39,14 @@ class Case:
         return "scripts/mesh/hertz.py " + self.args
 
 
-def _dyn(name, kind, n, mass, dt, groups, variant="both", passes=0):
+def _dyn(name, kind, n, mass, dt, groups, variant="both", passes=0, warn=False):
     mflag = {"HRZ": "HRZ", "ROW SUM": "'ROW SUM'", "CONSISTENT": "CONSISTENT"}[mass]
     size = f"--n {n}" if kind == "q8" else f"--subdivide {n}"
     args = f"--kind {kind} --mass {mflag} {size} --dt {dt:g} --field-every 50"
     if variant == "one":
         args += " --variant one"
+    if warn:
+        args += " --stability WARN"
     mass_label = mass.lower().replace("row sum", "row-sum")
     if passes:
         args += f" --mass-passes {passes}"
@@ -66,7 +69,8 @@ PAPER = [
 # refinement series (8 x 8 is the paper case above)
 SERIES = [
     _dyn("iga_hrz_12", "iga", 12, "HRZ", 3.3e-4, ("series", "conv_iga")),
-    _dyn("iga_hrz_16", "iga", 16, "HRZ", 2.5e-4, ("series", "conv_iga")),
+    # r = 1.006 at the start, just above the limit r = 1: run as before, with the warning
+    _dyn("iga_hrz_16", "iga", 16, "HRZ", 2.5e-4, ("series", "conv_iga"), warn=True),
     _dyn("iga_hrz_24", "iga", 24, "HRZ", 1.5e-4, ("series", "conv_iga")),
     _dyn("q8_hrz_12", "q8", 12, "HRZ", 2.5e-4, ("series", "conv_q8")),
     _dyn("q8_hrz_16", "q8", 16, "HRZ", 1.5e-4, ("series", "conv_q8")),

@@ -25,14 +25,14 @@ module ictus_solver_stepper
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
       force_kind_name, force_stable, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
-      between_steps_t
+      between_steps_t, state_kinetic
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
   use ictus_solver_contact_step, only: contact_step_t, contact_correct, contact_ratio
   use ictus_solver_loads, only: loads_t, loads_init
   implicit none
   private
   public :: stepper_t, stepper_init, stepper_plan, stepper_record, stepper_advance, &
-      stepper_done, stepper_estimate, DT_REFRESH, DT_FLOOR
+      stepper_done, stepper_estimate, stepper_settle, DT_REFRESH, DT_FLOOR
 
   !> With finite strain the stable step follows the state (doc/theory.md §7.1): it is
   !! estimated anew every DT_REFRESH steps, and a step below DT_FLOOR times the start-up step
@@ -57,6 +57,8 @@ module ictus_solver_stepper
     !> Whether the predictor of the current step ran for a record and its contact correction
     !! and displacement update are still to come.
     logical :: pending = .false.
+    !> Whether the contact correction of the pending step has run (stepper_settle).
+    logical :: settled = .false.
     !> Contact: pairs that have been active (their first contact is logged once) and the
     !! closest-point projections that failed so far.
     logical, allocatable :: was_active(:)
@@ -170,6 +172,21 @@ contains
     call check_inverted(stp)
   end subroutine stepper_record
 
+  !> The contact correction of a recorded step n right after its records have taken the
+  !! contact results (those of the last evaluation), and the kinetic energy at t_n with the
+  !! corrected v_{n+1/2} (doc/theory.md §4b) in s%e_kin; `stepper_advance` then only updates
+  !! the displacements of that step. Without contact, or with no recorded step pending,
+  !! nothing happens. At t_0 the kinetic energy stays that of the initial velocities v_0 (the
+  !! predictor's mean is v_0 exactly): a contact active at t = 0 would otherwise add half of
+  !! its first impulse to the initial energy.
+  subroutine stepper_settle(stp)
+    type(stepper_t), intent(inout) :: stp
+    if (.not. stp%pending .or. stp%settled .or. stp%contact%npairs == 0) return
+    call contact_between(stp)
+    if (stp%s%step > 0) call state_kinetic(stp%s, stp%mop, stp%dom)
+    stp%settled = .true.
+  end subroutine stepper_settle
+
   !> Runs whole steps until the state is at step n_to (t_{n_to}): first the rest of a recorded
   !! step, then windows of one sweep where the linear lumped stepper has them, single steps
   !! otherwise. Stops early with stp%failure set on a run-time failure, and where the step
@@ -182,7 +199,8 @@ contains
     hook%stp => stp
     if (stp%pending) then
       stp%pending = .false.
-      call contact_between(stp)
+      if (.not. stp%settled) call contact_between(stp)
+      stp%settled = .false.
       call step_finish(stp%s, stp%dom)
     end if
     do while (stp%s%step < n_to .and. len(stp%failure) == 0)
@@ -217,6 +235,17 @@ contains
         'correction did not converge'
     stp%failures = stp%failures + contact_failures(stp%contact)
     do kp = 1, stp%contact%npairs
+      associate (p => stp%contact%pairs(kp))
+        ! the first step of the run with outside points: name the time, point and pair
+        if (p%outside_points > 0 .and. p%outside_total == p%outside_points) call warning( &
+            'contact', 'pair '//trim(p%name)//': '//str(p%outside_points)//' contact '// &
+            'point(s) penetrate the other surface but project beyond its end (no force '// &
+            'applied) at t = '//str(stp%s%t + stp%s%dt)//'; the first at ('// &
+            str(p%outside_x(1))//', '//str(p%outside_x(2))//') on surface '// &
+            trim(outside_surface(stp%contact, kp))//' near node '// &
+            str(outside_node_id(stp%contact, kp))//'; extend the surfaces to cover the '// &
+            'contact zone (counted per step in outside_points, doc/contact.md §3)')
+      end associate
       if (stp%contact%pairs(kp)%active_points > 0 .and. .not. stp%was_active(kp)) then
         stp%was_active(kp) = .true.
         call contact_ratio(stp%cs, stp%contact, stp%model%x0, stp%s%u, stp%ops%m_pos, &
@@ -229,6 +258,28 @@ contains
       end if
     end do
   end subroutine contact_between
+
+  !> Name of the surface of pair k that holds its first outside point.
+  function outside_surface(c, k) result(name)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    character(len=:), allocatable :: name
+    integer :: i
+    i = c%pairs(k)%first
+    if (c%pairs(k)%outside_surf == 2) i = c%pairs(k)%second
+    name = '?'
+    if (i >= 1 .and. i <= c%nsurf) name = trim(c%surfaces(i)%name)
+  end function outside_surface
+
+  !> User id of the node nearest to the first outside point of pair k.
+  pure integer function outside_node_id(c, k) result(id)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    id = c%pairs(k)%outside_node
+    if (allocated(c%node_id) .and. id >= 1) then
+      if (id <= size(c%node_id)) id = c%node_id(id)
+    end if
+  end function outside_node_id
 
   !> The contact correction of a step inside a sweep.
   subroutine hook_run(this)

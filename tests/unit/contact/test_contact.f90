@@ -33,6 +33,7 @@ program test_contact
   call friction_steps(t, PAIR_WALL, 'friction, wall')
   call friction_steps(t, PAIR_NODE_TO_SEGMENT, 'friction, NTS')
   call friction_steps(t, PAIR_TWO_HALF_PASS, 'friction, THP')
+  call outside_points(t)
   call t%finish()
 
 contains
@@ -266,7 +267,7 @@ contains
     type(checker_t), intent(inout) :: t
     type(contact_t) :: c
     real(dp), parameter :: h = 0.5_dp, rho = 1.0_dp, dt = 5.0e-4_dp
-    real(dp) :: x(2, 200), m(200), r
+    real(dp) :: x(2, 200), m(200), r, r_pair(2)
     integer :: nn, e1(8, 4), e2(8, 4), e, a
     character(len=200) :: where
     nn = 0
@@ -301,6 +302,10 @@ contains
     call t%close(r, 2.0_dp*0.15_dp/h, 1.0e-10_dp, 'two Q8 bodies: r = 2 x 0.15/h')
     call t%true(index(where, 'pair: node') == 1 .and. index(where, 'against node') > 0, &
         'two bodies: where names both nodes')
+    call contact_stability(c, nn, x(:, 1:nn), m(1:nn), dt, r, where, r_pair)
+    call t%close(r_pair(1), 0.15_dp/h, 1.0e-10_dp, 'per pair: the wall r = 0.15/h')
+    call t%close(r_pair(2), 2.0_dp*0.15_dp/h, 1.0e-10_dp, 'per pair: the pair r = 0.3/h')
+    call t%close(r, maxval(r_pair), 0.0_dp, 'per pair: r_max is the largest')
   end subroutine q8_stability
 
   !> The two half-discs of the benchmark (doc/iga.md §10.4, R = 4, refined 8 x 8), mirror
@@ -363,6 +368,7 @@ contains
       call t%equal_int(p%failures, 0, 'hertz: no failed projections')
     end associate
   end subroutine hertz_mirror
+
   !> Coulomb friction (doc/contact.md §4a) on a flat interface of length L = len with
   !! penetration g: mu = 0.2, eps_T = eps/2, so the cone is mu eps g = 20 per unit length.
   !! The upper body (a Q8 row above a longer fixed row, or pressed onto the wall y = 0 from
@@ -419,4 +425,51 @@ contains
     end do
     call t%close(c%friction_work, work(2), 1.0e-9_dp, label//': committed frictional work')
   end subroutine friction_steps
+
+  !> Outside points (doc/contact.md §3): LOW = [0, 2h] x [0, h] (contact face its top, 2 Q8),
+  !! UP = [1.4h, 3.4h] x [h - g, 2h - g] (its bottom face). The interfaces overlap on
+  !! [1.4h, 2h]; beyond LOW's right end (x = 2h) UP's Gauss points lie below LOW's top line
+  !! (behind its end tangent), and left of UP's left end LOW's lie above UP's bottom line.
+  !! Gauss points of a quadratic edge at (1/2 -+ sqrt(3/5)/2) h and h/2 from its start:
+  !! UP: 1.513h, 1.9h, 2.287h, 2.513h, 2.9h, 3.287h (4 beyond 2h, 2 in the overlap); LOW (face 3
+  !! runs right to left, the same points): 0.113h, 0.5h, 0.887h, 1.113h, 1.5h, 1.887h (4 left
+  !! of 1.4h, 2 in the overlap). The candidates are the segments whose boxes, grown by the
+  !! search radius h, hold the point: UP's point at 3.287h is more than h beyond LOW's end
+  !! (box [0, 3h]) and LOW's at 0.113h more than h before UP's start (box [0.4h, 3.4h]), so
+  !! they have none and are not looked at (doc/contact.md §3, limits). So 3 + 3 = 6 outside
+  !! points, 4 active ones, the first outside point on the first surface (UP); with a gap
+  !! instead, none.
+  subroutine outside_points(t)
+    type(checker_t), intent(inout) :: t
+    real(dp), parameter :: h = 0.5_dp, g = 1.0e-3_dp
+    type(contact_t) :: c
+    real(dp) :: x(2, 200), fc(2, 200), energy, sgn
+    integer :: nn, e1(8, 2), e2(8, 2), k
+    do k = 1, 2
+      sgn = merge(1.0_dp, -1.0_dp, k == 1)
+      nn = 0
+      call q8_row(2, 0.0_dp, 0.0_dp, h, h, x, nn, e1)
+      call q8_row(2, 1.4_dp*h, h - sgn*g, h, h, x, nn, e2)
+      call contact_init(c, 2, 1)
+      call q8_surface(c, 1, 'UP', e2, 1, x(:, 1:nn))
+      call q8_surface(c, 2, 'LOW', e1, 3, x(:, 1:nn))
+      call contact_define_pair(c, 1, 'pair', PAIR_TWO_HALF_PASS, eps, 1, 2)
+      call contact_setup(c)
+      fc = 0.0_dp
+      call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+      associate (p => c%pairs(1))
+        if (k == 1) then
+          call t%equal_int(p%outside_points, 6, 'outside: 6 points behind the other end')
+          call t%equal_int(p%active_points, 4, 'outside: 4 active points in the overlap')
+          call t%equal_int(p%outside_surf, 1, 'outside: the first on the first surface')
+          call t%true(p%outside_x(1) > 2.0_dp*h .and. abs(p%outside_x(2) - (h - g)) < &
+              1.0e-12_dp, 'outside: the first point lies on UP beyond x = 2h')
+          call t%true(p%outside_total == 6, 'outside: run total')
+        else
+          call t%equal_int(p%outside_points, 0, 'outside: none with a gap')
+          call t%equal_int(p%active_points, 0, 'outside: none active with a gap')
+        end if
+      end associate
+    end do
+  end subroutine outside_points
 end program test_contact

@@ -208,11 +208,14 @@ contains
       call t%true(d%pairs(2)%algorithm == CONTACT_TWO_HALF_PASS .and. &
           d%pairs(2)%mass_penalty == 3.5_dp .and. d%pairs(2)%second == 'UPPER_BOTTOM', &
           'fe: pair 2 (default algorithm, mass penalty value, blank separated)')
+      call t%true(d%pairs(1)%stability_warn .and. .not. d%pairs(2)%stability_warn, &
+          'fe: STABILITY=WARN on pair 1, STOP (default) on pair 2')
     end if
     call t%equal_int(d%n_walls, 1, 'fe: rigid walls')
     if (d%n_walls == 1) call t%true(all(d%walls(1)%point == [0.0_dp, -0.5_dp]) .and. &
         all(d%walls(1)%normal == [0.0_dp, 1.0_dp]) .and. d%walls(1)%penalty == 1.0e7_dp .and. &
-        d%walls(1)%surface == 'LOWER_TOP', 'fe: wall')
+        d%walls(1)%surface == 'LOWER_TOP' .and. d%walls(1)%stability_warn, &
+        'fe: wall (stability=warn)')
     call t%equal_int(d%n_masses, 2, 'fe: masses')
     if (d%n_masses == 2) then
       call t%true(d%masses(1)%kind == MASS_ALPHA .and. d%masses(1)%alpha == 0.1666_dp .and. &
