@@ -15,6 +15,12 @@ contains
     real(dp), intent(out) :: lam(3), v(3, 3)
     real(dp) :: m(3, 3), off, scale, theta, t, c, s, tau, apq
     integer :: sweep, p, q, r, k
+    if (a(1, 3) == 0.0_dp .and. a(2, 3) == 0.0_dp .and. a(3, 1) == 0.0_dp .and. &
+        a(3, 2) == 0.0_dp) then
+      ! a block-diagonal matrix (plane strain): one rotation diagonalises the 2 x 2 block
+      call eigen_block(a, lam, v)
+      return
+    end if
     m = a
     v = 0.0_dp
     do k = 1, 3
@@ -51,6 +57,33 @@ contains
     end do
     lam = [m(1, 1), m(2, 2), m(3, 3)]
   end subroutine sym_eigen3
+
+  !> sym_eigen3 of a matrix whose (1:2, 3) and (3, 1:2) parts are zero: the Jacobi rotation
+  !! that zeroes a(1, 2) (the same formulas as the cyclic sweeps) and lam(3) = a(3, 3).
+  pure subroutine eigen_block(a, lam, v)
+    real(dp), intent(in) :: a(3, 3)
+    real(dp), intent(out) :: lam(3), v(3, 3)
+    real(dp) :: theta, t, c, s, apq
+    v = 0.0_dp
+    v(3, 3) = 1.0_dp
+    apq = a(1, 2)
+    lam = [a(1, 1), a(2, 2), a(3, 3)]
+    if (abs(apq) <= 1.0e-15_dp*max(maxval(abs(a)), tiny(1.0_dp))) then
+      v(1, 1) = 1.0_dp
+      v(2, 2) = 1.0_dp
+      return
+    end if
+    theta = (a(2, 2) - a(1, 1))/(2.0_dp*apq)
+    t = sign(1.0_dp, theta)/(abs(theta) + sqrt(theta*theta + 1.0_dp))
+    c = 1.0_dp/sqrt(t*t + 1.0_dp)
+    s = t*c
+    lam(1) = a(1, 1) - t*apq
+    lam(2) = a(2, 2) + t*apq
+    v(1, 1) = c
+    v(2, 1) = -s
+    v(1, 2) = s
+    v(2, 2) = c
+  end subroutine eigen_block
 
   pure subroutine rotate(x, y, s, tau)
     real(dp), intent(inout) :: x, y

@@ -166,8 +166,8 @@ contains
     real(dp), intent(in) :: mu, lam, grad(3, 3), hist_old(:)
     real(dp), intent(out) :: hist_new(:), sig(6), w
     real(dp) :: f(3, 3), finv(3, 3), cpi(3, 3), be(3, 3), lam2(3), nv(3, 3), ee(3, 3)
-    real(dp) :: tau(3, 3), dep(3, 3), epbar, wp, detf, ln(3)
-    integer :: i
+    real(dp) :: tau(3, 3), dep(3, 3), epbar, wp, detf, ln(3), c
+    integer :: i, k
     f = grad
     cpi = tensor_of(hist_old(1:6))
     do i = 1, 3
@@ -189,7 +189,10 @@ contains
     ! back to the spatial frame: b_e = N exp(2 eps_e) N^T, tau = N tau' N^T
     be = 0.0_dp
     do i = 1, 3
-      be = be + exp(2.0_dp*ee(i, i))*spread(nv(:, i), 2, 3)*spread(nv(:, i), 1, 3)
+      c = exp(2.0_dp*ee(i, i))
+      do k = 1, 3
+        be(:, k) = be(:, k) + c*nv(k, i)*nv(:, i)
+      end do
     end do
     tau = matmul(matmul(nv, tau), transpose(nv))
     finv = inverse3(f, detf)
