@@ -20,7 +20,7 @@ module ictus_solver_force_element
   implicit none
   private
   public :: element_force_t, element_loop_init, element_loop_apply, element_loop_energy, &
-      element_loop_bytes, element_loop_dissipation, element_loop_stable
+      element_loop_bytes, element_loop_dissipation, element_loop_stable, element_loop_geometry
 
   type :: element_force_t
     !> Elements of this rank (domain_t%elem order), their types, nodes, quadrature points and
@@ -60,10 +60,7 @@ contains
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer, intent(out) :: ierr
-    type(shape_cache_t) :: cache
-    type(elem_shape_t) :: shp
-    integer :: k, e, nen, ngp_max, nen_max, m, g
-    ierr = 0
+    integer :: k, e, ngp_max, nen_max, m
     el%nelem = dom%nelem
     el%nglobal = model%nel
     el%materials = model%materials
@@ -87,11 +84,32 @@ contains
     allocate(el%ul(model%ndm, nen_max), el%fe(model%ndm, nen_max), el%hnew(el%nhist, ngp_max))
     do k = 1, el%nelem
       e = dom%elem(k)
-      nen = model%nen(e)
       el%etype(k) = model%etype(e)
-      el%nen(k) = nen
+      el%nen(k) = model%nen(e)
       el%mat(k) = model%mat(e)
       el%own(k) = domain_owns(dom, k)
+    end do
+    call element_loop_geometry(el, model, ierr)
+    allocate(el%eown(count(el%own)), source=0.0_dp)
+  end subroutine element_loop_init
+
+  !> The shape derivatives and volume weights of every quadrature point of the loop's
+  !! elements (el%dnx, el%dvol, el%ngp), from the reference geometry: what the loop stores
+  !! once. The benchmark times it as the cost a loop that recomputed them every step would
+  !! pay (doc/performance.md §2.2). ierr: 0, or the global index of an element whose
+  !! geometry fails.
+  subroutine element_loop_geometry(el, model, ierr)
+    type(element_force_t), intent(inout) :: el
+    type(model_t), intent(in) :: model
+    integer, intent(out) :: ierr
+    type(shape_cache_t) :: cache
+    type(elem_shape_t) :: shp
+    integer :: k, e, nen, ngp_max, g
+    ierr = 0
+    ngp_max = size(el%dvol, 1)
+    do k = 1, el%nelem
+      e = el%elem(k)
+      nen = el%nen(k)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
       ! a rule has at most the points of the tensor Gauss rule of the same n
       if (shp%ngp > ngp_max) then
@@ -103,8 +121,7 @@ contains
           el%dnx(:, 1:nen, 1:shp%ngp, k), el%dvol(1:shp%ngp, k), g)
       if (g /= 0 .and. ierr == 0) ierr = e
     end do
-    allocate(el%eown(count(el%own)), source=0.0_dp)
-  end subroutine element_loop_init
+  end subroutine element_loop_geometry
 
   !> Memory of the stored geometry, bytes.
   pure real(dp) function element_loop_bytes(el)
