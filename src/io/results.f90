@@ -410,6 +410,8 @@ contains
     r%grids(:)%velocity = r%vars(VAR_V)
     r%grids(:)%mises = r%vars(VAR_MISES)
     r%grids(:)%peeq = r%vars(VAR_PEEQ)
+    r%grids(:)%stress = r%vars(VAR_S)
+    r%grids(:)%strain = r%vars(VAR_E)
   end subroutine grid_fields
 
   !> Reopens the results file of an interrupted run to continue it from a checkpoint: history
@@ -702,49 +704,67 @@ contains
     if (r%vars(VAR_PEEQ)) call h5u_write_rows(g, 'peeq', ef%peeq, ef%elem, nel)
     if (r%vars(VAR_S)) call h5u_write_rows(g, 'nodal_stress', ef%nodal_stress, gid, r%nn)
     if (r%vars(VAR_MISES)) call h5u_write_rows(g, 'nodal_mises', ef%nodal_mises, gid, r%nn)
-    if (r%vars(VAR_MISES)) call block_cells(r, g, 'mises', ef%mises, ef%elem)
-    if (r%vars(VAR_PEEQ)) call block_cells(r, g, 'peeq', ef%peeq, ef%elem)
+    if (r%vars(VAR_S)) call block_cells(r, g, 'stress', ef%stress, ef%elem)
+    if (r%vars(VAR_E)) call block_cells(r, g, 'strain', ef%strain, ef%elem)
+    if (r%vars(VAR_MISES)) call block_cells(r, g, 'mises', reshape(ef%mises, [1, size(ef%mises)]), &
+        ef%elem)
+    if (r%vars(VAR_PEEQ)) call block_cells(r, g, 'peeq', reshape(ef%peeq, [1, size(ef%peeq)]), &
+        ef%elem)
     call h5u_close_group(g)
   end subroutine results_element_fields
 
-  !> The per-element values v of the elements elem (this rank's) as cell fields of the XDMF
-  !! blocks that are not the whole model: `<type>_<name>` (one row per element of that type,
-  !! in model order) for an FE block beside others, `viz_<name>` (the element's value on
-  !! each of its viewing cells) for NURBS elements (doc/results.md).
+  !> The per-element values v(ncomp, :) of the elements elem (this rank's) as cell fields of
+  !! the XDMF blocks that are not the whole model: `<type>_<name>` (one row per element of
+  !! that type, in model order) for an FE block beside others, `viz_<name>` (the element's
+  !! value on each of its viewing cells) for NURBS elements (doc/results.md). A scalar
+  !! (ncomp = 1) is written as a 1-D dataset, else (rows, ncomp).
   subroutine block_cells(r, g, name, v, elem)
     type(results_t), intent(inout) :: r
     integer(hid_t), intent(in) :: g
     character(len=*), intent(in) :: name
-    real(dp), intent(in) :: v(:)
+    real(dp), intent(in) :: v(:,:)
     integer, intent(in) :: elem(:)
-    real(dp), allocatable :: vals(:)
-    integer, allocatable :: rows(:)
+    real(dp), allocatable :: vals(:,:)
+    integer, allocatable :: rows(:), pick(:)
     integer :: k, j, n, q
     do k = 1, size(r%grids)
       associate (gr => r%grids(k))
         if (gr%whole) cycle
         if (gr%etype == ETYPE_IGA) then
           n = sum(r%ncells_of(elem))
-          allocate(vals(n), rows(n))
+          allocate(vals(size(v, 1), n), rows(n))
           n = 0
           do j = 1, size(elem)
             do q = 1, r%ncells_of(elem(j))
               n = n + 1
               rows(n) = r%viz%first_cell(elem(j)) + q
-              vals(n) = v(j)
+              vals(:, n) = v(:, j)
             end do
           end do
-          call h5u_write_rows(g, 'viz_'//name, vals, rows, gr%nel)
+          call write_cells(g, 'viz_'//name, vals, rows, gr%nel)
         else
-          rows = pack([(j, j = 1, size(elem))], r%elem_type(elem) == gr%etype)
-          vals = v(rows)
-          rows = r%block_row(elem(rows))
-          call h5u_write_rows(g, trim(gr%name)//'_'//name, vals, rows, gr%nel)
+          pick = pack([(j, j = 1, size(elem))], r%elem_type(elem) == gr%etype)
+          vals = v(:, pick)
+          rows = r%block_row(elem(pick))
+          call write_cells(g, trim(gr%name)//'_'//name, vals, rows, gr%nel)
         end if
         deallocate(vals, rows)
       end associate
     end do
   end subroutine block_cells
+
+  !> Rows `rows` of the cell dataset `name` (nglobal rows): 1-D for one component.
+  subroutine write_cells(g, name, vals, rows, nglobal)
+    integer(hid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: vals(:,:)
+    integer, intent(in) :: rows(:), nglobal
+    if (size(vals, 1) == 1) then
+      call h5u_write_rows(g, name, vals(1, :), rows, nglobal)
+    else
+      call h5u_write_rows(g, name, vals, rows, nglobal)
+    end if
+  end subroutine write_cells
 
   !> The reaction forces of step `step`, /fields/<step>/reaction (n, 2), when the snapshots
   !! hold RF (*OUTPUT, FIELD, VARIABLES=...RF): rf (2, :) holds the values of this rank's

@@ -38,6 +38,8 @@ module ictus_io_xdmf
     logical :: velocity = .true.
     logical :: mises = .true.
     logical :: peeq = .true.
+    logical :: stress = .true.
+    logical :: strain = .false.
   end type xdmf_grid_t
 
 contains
@@ -123,6 +125,9 @@ contains
     if (g%mises) call cell_scalar(u, 'element_mises', block_dataset(g, 'mises'), h5, sname, &
         g%nel)
     if (g%peeq) call cell_scalar(u, 'peeq', block_dataset(g, 'peeq'), h5, sname, g%nel)
+    ! the stress and strain tensors of each element (xx, yy, xy, zz) as 4-component cells
+    if (g%stress) call cell_matrix(u, 'stress', block_dataset(g, 'stress'), h5, sname, g%nel)
+    if (g%strain) call cell_matrix(u, 'strain', block_dataset(g, 'strain'), h5, sname, g%nel)
     write(u, '(a)') '    </Grid>'
   end subroutine grid
 
@@ -139,6 +144,16 @@ contains
       dataset = trim(g%name)//'_'//name
     end if
   end function block_dataset
+
+  !> A cell field of 4 components (xx, yy, xy, zz): the (nel, 4) dataset `dataset`.
+  subroutine cell_matrix(u, name, dataset, h5, sname, nel)
+    integer, intent(in) :: u, nel
+    character(len=*), intent(in) :: name, dataset, h5, sname
+    write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Matrix" Center="Cell">'
+    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', nel, ' 4">'//h5//':/fields/'//sname//'/'//dataset//'</DataItem>'
+    write(u, '(a)') '     </Attribute>'
+  end subroutine cell_matrix
 
   !> A cell scalar: the per-element dataset `dataset` of the snapshot.
   subroutine cell_scalar(u, name, dataset, h5, sname, nel)

@@ -104,32 +104,37 @@ def check_meshio(c, xdmf, h5, block, cwd, name):
             for k, (step, _) in enumerate(snaps):
                 _, _, cd = r.read_data(k)
                 got = cd.get("element_mises")
-                want = block_mises(h5, step, bname, len(conn))
+                want = block_cells(h5, step, bname, len(conn), "mises")
                 if got is None or not np.array_equal(np.ravel(got[0]), want):
                     bad.append(f"element_mises of {step}")
-            c.check(not bad, f"{label}: the cell field element_mises of every step is the "
-                    "per-element von Mises stress of the block's elements (NURBS: of the "
-                    "element of each viewing cell)", ", ".join(bad[:5]))
+                got = cd.get("stress")
+                want = block_cells(h5, step, bname, len(conn), "stress")
+                if got is None or not np.array_equal(np.asarray(got[0]).reshape(want.shape),
+                                                     want):
+                    bad.append(f"stress of {step}")
+            c.check(not bad, f"{label}: the cell fields element_mises and stress (4 components) "
+                    "of every step are the per-element values of the block's elements (NURBS: "
+                    "of the element of each viewing cell)", ", ".join(bad[:5]))
     except Exception as e:  # a reader error is a failed check, the others still run
         c.check(False, f"{label}: read", repr(e))
     finally:
         os.chdir(here)
 
 
-def block_mises(h5, step, bname, ncells):
-    """The per-element von Mises stress on the cells of block `bname`, from the model-order
-    dataset `mises`: the test decks have one FE type, whose elements come first in model
-    order, then the NURBS spans, each shown on the same number of viewing cells."""
+def block_cells(h5, step, bname, ncells, name):
+    """The per-element dataset `name` (model order) on the cells of block `bname`: the test
+    decks have one FE type, whose elements come first in model order, then the NURBS spans,
+    each shown on the same number of viewing cells."""
     import h5py
-    mises = xc.field(h5, step, "mises")
+    vals = xc.field(h5, step, name)
     with h5py.File(h5, "r") as f:
         fe = [t for t in f["model/elements"] if t != "iga"]
         assert len(fe) <= 1
         nfe = len(f[f"model/elements/{fe[0]}/ids"]) if fe else 0
     if bname != "iga":
-        return mises[:nfe]
-    spans = mises[nfe:]
-    return np.repeat(spans, ncells // len(spans))
+        return vals[:nfe]
+    spans = vals[nfe:]
+    return np.repeat(spans, ncells // len(spans), axis=0)
 
 
 def main():
