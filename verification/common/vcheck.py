@@ -176,6 +176,24 @@ def same_bits(a, b):
     return len(names) > 0 and all(n in fb and np.array_equal(fa[n][()], fb[n][()]) for n in names)
 
 
+def check_ranks_and_restart(args, chk, path, out, ranks=(2,), expect_status=0, label=""):
+    """Runs deck `path` (whose 1-rank results are `out`, with a checkpoint next to them) on
+    each number of ranks in `ranks`, and continues the 1-rank run on 2 ranks from its last
+    checkpoint; each must give every history and field dataset of `out` bit for bit."""
+    import shutil
+    for n in ranks:
+        o = out.replace(".h5", f"_np{n}.h5")
+        run_ictus(args, path, o, np=n, expect_status=expect_status)
+        chk.true(same_bits(out, o), f"{label}{n} ranks: every history and field dataset "
+                 "bit-identical")
+    o = out.replace(".h5", "_restart.h5")
+    shutil.copy(out, o)
+    run_ictus(args, path, o, np=2, expect_status=expect_status,
+              extra=("--restart", out.replace(".h5", ".chk.h5")))
+    chk.true(same_bits(out, o), f"{label}restart on 2 ranks from a checkpoint of the 1-rank "
+             "run: bit-identical")
+
+
 def processed_deck_reruns(args, out):
     """Runs the processed deck stored in the results file `out` (the root attribute `deck`
     with its bulk data under /deck, written back out by scripts/deck_from_results.py) and

@@ -25,7 +25,6 @@ The wall run is repeated on 2 ranks and continued on 2 ranks from a checkpoint o
 run: bit-identical histories and fields (the friction state travels in checkpoints).
 """
 import os
-import shutil
 import sys
 
 import numpy as np
@@ -172,14 +171,7 @@ def main():
         vcheck.run_ictus(args, p, o)
         check_sliding(chk, vcheck.Results(o), "slide", alg, 0.01)
     stick(args, chk)
-    o = out.replace(".h5", "_np2.h5")
-    vcheck.run_ictus(args, path, o, np=2)
-    chk.true(vcheck.same_bits(out, o), "2 ranks: every history and field dataset bit-identical")
-    o = out.replace(".h5", "_restart.h5")
-    shutil.copy(out, o)
-    vcheck.run_ictus(args, path, o, np=2, extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(vcheck.same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run "
-             "(in the sliding phase): bit-identical")
+    vcheck.check_ranks_and_restart(args, chk, path, out)
     chk.true(vcheck.processed_deck_reruns(args, out), "the processed deck reruns bit for bit")
     chk.finish()
 

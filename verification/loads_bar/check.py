@@ -33,7 +33,6 @@ Q4 elements; the force F = 1 is split over the two nodes of the end x = 10.
 """
 import math
 import os
-import shutil
 import sys
 
 import numpy as np
@@ -98,16 +97,6 @@ def check_momentum(args, chk):
     chk.true(vcheck.same_bits(out, o), "CONSISTENT: 2 ranks bit-identical")
 
 
-def same_bits(a, b):
-    """Whether every dataset under /history and /fields of two results files is equal."""
-    import h5py
-    fa, fb = h5py.File(a, "r"), h5py.File(b, "r")
-    names = []
-    for g in ("history", "fields"):
-        fa[g].visititems(lambda n, o: names.append(g + "/" + n) if hasattr(o, "shape") else None)
-    return len(names) > 0 and all(n in fb and np.array_equal(fa[n][()], fb[n][()]) for n in names)
-
-
 def check_free(args, chk):
     path = os.path.join(args.work, "free.inp")
     with open(path, "w") as f:
@@ -154,15 +143,7 @@ def check_free(args, chk):
               "total energy (kinetic + strain - external work) constant within 1 % of the work")
     chk.true(all(not np.any(res.field(s, "reaction")) for s in steps),
              "no constrained dofs: the reaction field is 0")
-    for np_ in (2, 3):
-        o = out.replace(".h5", f"_np{np_}.h5")
-        vcheck.run_ictus(args, path, o, np=np_)
-        chk.true(same_bits(out, o), f"{np_} ranks: every history and field dataset bit-identical")
-    o = out.replace(".h5", "_restart.h5")
-    shutil.copy(out, o)
-    vcheck.run_ictus(args, path, o, np=2, extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run: "
-             "bit-identical")
+    vcheck.check_ranks_and_restart(args, chk, path, out, ranks=(2, 3))
 
 
 def check_held(args, chk):

@@ -18,7 +18,6 @@ checkpoint of the 1-rank run (the prescribed dofs' velocities and the power of t
 are part of it) and the run of the processed deck (the echo of the cards).
 """
 import os
-import shutil
 import sys
 
 import numpy as np
@@ -108,14 +107,7 @@ def main():
     chk.true(not np.any(r[:, ~ends, :]) and not np.any(r[:, :, 1]),
              "reactions only on the prescribed x dofs")
     chk.true(np.any(r[:, left, 0]) and np.any(r[:, right, 0]), "the moving ends take reactions")
-    o = out.replace(".h5", "_np2.h5")
-    vcheck.run_ictus(args, path, o, np=2)
-    chk.true(vcheck.same_bits(out, o), "2 ranks: every history and field dataset bit-identical")
-    o = out.replace(".h5", "_restart.h5")
-    shutil.copy(out, o)
-    vcheck.run_ictus(args, path, o, np=2, extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(vcheck.same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run: "
-             "bit-identical")
+    vcheck.check_ranks_and_restart(args, chk, path, out)
     chk.true(vcheck.processed_deck_reruns(args, out), "the processed deck reruns bit for bit")
     chk.finish()
 

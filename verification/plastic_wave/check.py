@@ -20,7 +20,6 @@ The history variables of the plasticity take part in the bit-identity of the run
 run on 2 and 3 ranks, and one continued on 2 ranks from a checkpoint of the 1-rank run (which
 carries the plastic strains), give every dataset of the results file bit for bit.
 """
-import shutil
 import math
 import os
 import sys
@@ -138,20 +137,8 @@ def main():
               "energy balance: kinetic + strain + plastic work = initial kinetic")
     chk.close(float(res.history("energy/total")[-1]), float(total[-1]), 1e-12,
               "the recorded total includes the plastic work")
-    check_bits(args, chk, path, out)
+    vcheck.check_ranks_and_restart(args, chk, path, out, ranks=(2, 3))
     chk.finish()
-
-
-def check_bits(args, chk, path, out):
-    for np_ in (2, 3):
-        o = out.replace(".h5", f"_np{np_}.h5")
-        vcheck.run_ictus(args, path, o, np=np_)
-        chk.true(vcheck.same_bits(out, o), f"{np_} ranks: every history and field dataset bit-identical")
-    # continue the 1-rank run from its last checkpoint on 2 ranks
-    o = out.replace(".h5", "_restart.h5")
-    shutil.copy(out, o)
-    vcheck.run_ictus(args, path, o, np=2, extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(vcheck.same_bits(out, o), "restart on 2 ranks from a checkpoint of the 1-rank run: bit-identical")
 
 
 if __name__ == "__main__":

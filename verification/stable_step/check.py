@@ -21,7 +21,6 @@ displacement fields (one every 50 steps; the step is estimated every 10):
 - the SVK run is bit-identical on 2 ranks, and continued on 2 ranks from a checkpoint of the
   1-rank run (the step and the one before it travel in the checkpoint).
 """
-import shutil
 import os
 import re
 import sys
@@ -156,16 +155,7 @@ def check_bits(args, chk):
         fh.write(deck("SVK", restart=True))
     out = os.path.join(args.work, "crush_bits.h5")
     vcheck.run_ictus(args, path, out, expect_status=2)
-    o = out.replace(".h5", "_np2.h5")
-    vcheck.run_ictus(args, path, o, np=2, expect_status=2)
-    chk.true(vcheck.same_bits(out, o), "SVK on 2 ranks: every history and field dataset "
-             "bit-identical")
-    o = out.replace(".h5", "_restart.h5")
-    shutil.copy(out, o)
-    vcheck.run_ictus(args, path, o, np=2, expect_status=2,
-                     extra=("--restart", out.replace(".h5", ".chk.h5")))
-    chk.true(vcheck.same_bits(out, o), "SVK continued on 2 ranks from a checkpoint of the 1-rank "
-             "run: bit-identical")
+    vcheck.check_ranks_and_restart(args, chk, path, out, expect_status=2, label="SVK: ")
 
 
 if __name__ == "__main__":
