@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Decks of the dynamic Hertz benchmark (doc/reference.md §1): two half-cylinders R = 4 touching at
 the origin, plane strain, E = 1000, nu = 0.2, rho = 1, symmetry u_x = 0 on the cuts x = 0,
-frictionless penalty contact (eps_N = 1e5, two-half-pass), dt = 5e-4, T = 0.9.
+frictionless penalty contact (eps_N = 1e5, two-half-pass; --algorithm MORTAR or NODE TO SEGMENT),
+dt = 5e-4, T = 0.9. --lower N: the lower body with N spans (iga) or elements (q8) per direction
+(non-matching meshes).
 
     hertz.py --kind iga --mass HRZ [--subdivide 16] [--elevate 3] > deck.inp   (see input/hertz/)
     hertz.py --kind q8 --mass HRZ [--n 16] > deck.inp
@@ -61,7 +63,11 @@ def parser():
     ap.add_argument("--variant", choices=["both", "one"], default="both")
     ap.add_argument("--wall", action="store_true")
     ap.add_argument("--penalty", type=float, default=1.0e5)
-    ap.add_argument("--algorithm", default="TWO HALF PASS", choices=["TWO HALF PASS", "NODE TO SEGMENT"])
+    ap.add_argument("--algorithm", default="TWO HALF PASS",
+                    choices=["TWO HALF PASS", "NODE TO SEGMENT", "MORTAR"])
+    ap.add_argument("--lower", type=int, default=0,
+                    help="spans (iga) or elements (q8) per direction of the lower body, for "
+                         "non-matching meshes (0: as the upper body)")
     ap.add_argument("--dt", type=float, default=5.0e-4)
     ap.add_argument("--stability", choices=["STOP", "WARN"], default="STOP",
                     help="STABILITY= of the contact card (WARN: run even where the contact "
@@ -104,6 +110,10 @@ def check_options(a):
     check(finite(a.t_end) and a.t_end > 0.0, "--t-end", "a positive finite end time", a.t_end)
     check(a.field_every >= 0, "--field-every", "an integer >= 0 (0: 20 snapshots)",
           a.field_every)
+    check(a.lower >= 0, "--lower", "an integer >= 0 (0: as the upper body)", a.lower)
+    if a.lower:
+        check(a.kind in ("iga", "q8") and a.grade_arc == 1.0 and a.grade_depth == 1.0 and
+              not a.wall, "--lower", "uniform iga or q8 meshes of two bodies", a.lower)
     spans = a.subdivide if a.kind == "iga" else a.n
     for opt, q in (("--grade-arc", a.grade_arc), ("--grade-depth", a.grade_depth)):
         check(finite(q) and q > 0.0, opt, "a positive finite ratio (1: uniform)", q)
@@ -244,6 +254,8 @@ def _body(a, centre, name, id_offset):
     if a.grade_arc != 1.0 or a.grade_depth != 1.0 or a.static is not None:
         return graded_body_cards(a, centre, name, id_offset)
     common = dict(kind=a.kind, subdivide=a.subdivide, elevate=a.elevate, n=a.n)
+    if name == "LOWER" and a.lower:
+        common.update(subdivide=a.lower, n=a.lower)
     return halfdisc.body_cards(halfdisc.options(centre=centre, name=name, id_offset=id_offset,
                                                 **common))
 
@@ -255,6 +267,8 @@ def deck(a, command):
         kind = f"4 merged NURBS patches, {a.subdivide} spans on the cut"
     else:
         kind = f"NURBS p = {max(2, a.elevate)}, {a.subdivide} x {a.subdivide} spans"
+    if a.lower:
+        kind += f" (lower body: {a.lower} x {a.lower})"
     if a.grade_arc != 1.0 or a.grade_depth != 1.0:
         kind += f" graded {a.grade_arc:g} (arc), {a.grade_depth:g} (cut)"
     static = a.static is not None

@@ -15,10 +15,10 @@ module ictus_app_build_contact
       element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
-      contact_define_friction
+      contact_define_friction, PAIR_MORTAR
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
-      CONTACT_NODE_TO_SEGMENT
+      CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR
   use ictus_app_build_model, only: resolve_elem_set, patch_index
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   implicit none
@@ -60,6 +60,11 @@ contains
             trim(p%name)//': PENALTY must be positive')
         kind = PAIR_TWO_HALF_PASS
         if (p%algorithm == CONTACT_NODE_TO_SEGMENT) kind = PAIR_NODE_TO_SEGMENT
+        if (p%algorithm == CONTACT_MORTAR) kind = PAIR_MORTAR
+        if (p%algorithm == CONTACT_MORTAR .and. p%mass_penalty >= 0.0_dp) call input_error( &
+            p%where, '*CONTACT PAIR '//trim(p%name)//': MASS PENALTY (bipenalty) is not '// &
+            'available with ALGORITHM=MORTAR; use TWO HALF PASS or NODE TO SEGMENT, or '// &
+            'drop MASS PENALTY')
         name = p%name
         if (len_trim(name) == 0) name = 'pair'//str(i)
         call contact_define_pair(c, i, name, kind, p%penalty, max(s1, 1), max(s2, 1))

@@ -13,7 +13,8 @@ module ictus_contact_contact
       MAX_SEG_NODES
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
-      node_to_segment_forces, pair_commit
+      node_to_segment_forces, pair_commit, PAIR_MORTAR
+  use ictus_contact_mortar, only: mortar_forces, mortar_ratio
   use ictus_contact_wall, only: wall_forces
   use ictus_contact_search, only: search_grid_t
   use ictus_contact_projection, only: projection_t, PROJ_INTERIOR, PROJ_CORNER
@@ -21,7 +22,7 @@ module ictus_contact_contact
   private
   public :: contact_t, contact_init, contact_define_pair, contact_define_wall, contact_setup, &
       contact_forces, contact_stability, contact_failures, contact_free, contact_pair_t, &
-      contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
+      contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, PAIR_MORTAR, &
       contact_define_friction, contact_commit, pair_stiffness
 
   !> All pairs and walls of a model (walls after the pairs), their surfaces and results.
@@ -68,7 +69,7 @@ contains
 
   !> Defines pair k: a contact pair between surfaces first and second.
   !! @param c contact; @param k pair index; @param name (stored in lower case);
-  !! @param kind PAIR_TWO_HALF_PASS or PAIR_NODE_TO_SEGMENT; @param penalty eps_N;
+  !! @param kind PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT or PAIR_MORTAR; @param penalty eps_N;
   !! @param first, second surface indices; @param radius search radius, optional
   !! (default: largest segment length of the two surfaces)
   subroutine contact_define_pair(c, k, name, kind, penalty, first, second, radius)
@@ -224,6 +225,8 @@ contains
         case (PAIR_NODE_TO_SEGMENT)
           call node_to_segment_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, &
               xprev, dm)
+        case (PAIR_MORTAR)
+          call mortar_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, xprev)
         case (PAIR_WALL)
           call wall_forces(p, c%surfaces(p%first), x, fc, xprev)
         end select
@@ -260,8 +263,8 @@ contains
     character(len=*), intent(out) :: where
     real(dp), intent(out), optional :: r_pair(:)
     character(len=len(where)) :: at
-    real(dp) :: r
-    integer :: k
+    real(dp) :: r, q
+    integer :: k, gs, gm
     r_max = 0.0_dp
     where = ''
     do k = 1, c%npairs
@@ -274,6 +277,13 @@ contains
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%first), &
               p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r, at)
+        case (PAIR_MORTAR)
+          call mortar_ratio(p, c%surfaces(p%first), c%surfaces(p%second), x, m_diag, q, gs, gm)
+          r = huge(1.0_dp)
+          if (q < huge(1.0_dp)) r = dt*dt*pair_stiffness(p)*q
+          at = trim(p%name)//': node '//str(user_id(c, gs))
+          if (gm > 0) at = trim(at)//' against node '//str(user_id(c, gm))
+          if (r >= huge(1.0_dp)) at = trim(at)//' (non-positive lumped mass)'
         case (PAIR_NODE_TO_SEGMENT)
           call update_grid(c%surfaces(p%second), x, p%radius, p%grid_second, p%curves_second)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &

@@ -24,10 +24,12 @@ module ictus_contact_pair
   private
   public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
       pair_setup, pair_reset_results, update_grid, closest_point, half_pass, &
-      two_half_pass_forces, node_to_segment_forces, friction_t, coulomb, pair_commit
+      two_half_pass_forces, node_to_segment_forces, friction_t, coulomb, pair_commit, &
+      PAIR_MORTAR, mortar_t, point_increment, mortar_resize
 
   !> Pair kinds.
-  integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3
+  integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3, &
+      PAIR_MORTAR = 4
 
   !> Coulomb friction of a pair (doc/contact.md §4a): the coefficient, the tangential
   !! penalty, the tangential traction of every contact point (committed: of the last
@@ -48,6 +50,20 @@ module ictus_contact_pair
     real(dp) :: dwork = 0.0_dp
     real(dp) :: work = 0.0_dp
   end type friction_t
+
+  !> The integration points of a MORTAR pair (src/contact/mortar.f90) on the slave (first)
+  !! surface: each slave segment cut where the ends of the master segments project onto it,
+  !! Gauss points on every piece. Per point: slave segment and parameter, reference weight
+  !! w J, and the closest point on the master (PROJ_* status, segment, parameter, outward
+  !! normal, signed distance d). Per slave node: the weight l_A = sum N_A w J, the weighted
+  !! gap g_A = sum N_A d w J over the projected points, the pressure p_A and the tangential
+  !! traction t_A. Sized by pair_setup, grown (rarely) by the mortar kernel.
+  type :: mortar_t
+    integer :: n = 0
+    integer, allocatable :: sseg(:), mseg(:), status(:)
+    real(dp), allocatable :: ts(:), tm(:), wj(:), d(:), normal(:,:)
+    real(dp), allocatable :: ell(:), gap(:), p(:), slip(:), t(:)
+  end type mortar_t
 
   !> One *CONTACT PAIR or *RIGID WALL with its results of the last force evaluation.
   type :: contact_pair_t
@@ -102,6 +118,8 @@ module ictus_contact_pair
     integer, allocatable :: cand(:)
     !> Coulomb friction (off unless set by contact_define_friction).
     type(friction_t) :: fr
+    !> MORTAR: the integration points and nodal values.
+    type(mortar_t) :: mo
   end type contact_pair_t
 
 contains
@@ -114,7 +132,7 @@ contains
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
     integer :: ncand
-    if (pair%kind == PAIR_NODE_TO_SEGMENT) then
+    if (pair%kind == PAIR_NODE_TO_SEGMENT .or. pair%kind == PAIR_MORTAR) then
       pair%npoints = s1%nsn
     else
       pair%npoints = s1%ngp
@@ -140,6 +158,7 @@ contains
       allocate(pair%curves_first(0), pair%curves_second(0))
     end if
     allocate(pair%cand(max(ncand, 1)))
+    if (pair%kind == PAIR_MORTAR) call mortar_setup(pair%mo, s1, s2)
     if (pair%fr%on) then
       pair%fr%npts = pair%npoints
       if (pair%kind == PAIR_TWO_HALF_PASS) pair%fr%npts = s1%ngp + s2%ngp
@@ -149,6 +168,30 @@ contains
     end if
     call pair_reset_results(pair)
   end subroutine pair_setup
+
+  !> Sizes the mortar points of a pair: p_s + p_m + 1 Gauss points on each piece, at most
+  !! nseg_s + 4 nseg_m + 4 pieces (each master segment end cuts at most two slave segments).
+  subroutine mortar_setup(mo, s1, s2)
+    type(mortar_t), intent(inout) :: mo
+    type(contact_surface_t), intent(in) :: s1, s2
+    integer :: cap
+    cap = (s1%nen_max + s2%nen_max - 1)*(s1%nseg + 4*s2%nseg + 4)
+    call mortar_resize(mo, cap)
+    mo%n = 0
+    if (allocated(mo%ell)) deallocate(mo%ell, mo%gap, mo%p, mo%slip, mo%t)
+    allocate(mo%ell(s1%nsn), mo%gap(s1%nsn), mo%p(s1%nsn), mo%slip(s1%nsn), mo%t(s1%nsn), &
+        source=0.0_dp)
+  end subroutine mortar_setup
+
+  !> (Re)allocates the point arrays of a mortar pair for cap points (contents lost).
+  subroutine mortar_resize(mo, cap)
+    type(mortar_t), intent(inout) :: mo
+    integer, intent(in) :: cap
+    if (allocated(mo%sseg)) deallocate(mo%sseg, mo%mseg, mo%status, mo%ts, mo%tm, mo%wj, &
+        mo%d, mo%normal)
+    allocate(mo%sseg(cap), mo%mseg(cap), mo%status(cap), mo%ts(cap), mo%tm(cap), &
+        mo%wj(cap), mo%d(cap), mo%normal(2, cap))
+  end subroutine mortar_resize
 
   !> Accepts the friction state of the last force evaluation (the end of a step): the trial
   !! tractions become the committed ones and the increment of frictional work is added.

@@ -25,7 +25,7 @@ module ictus_contact_projection
       surface_curves, curve_geometry, CURVE_SAMPLES
   implicit none
   private
-  public :: projection_t, project_point, &
+  public :: projection_t, project_point, project_on_curve, &
       PROJ_NONE, PROJ_INTERIOR, PROJ_CORNER, PROJ_OUTSIDE, PROJ_FAILED, &
       SEG_INTERIOR, SEG_END0, SEG_END1, SEG_FAILED
 

@@ -38,6 +38,32 @@ module ictus_contact_surface
   !> Segment kinds.
   integer, parameter :: SEG_LAGRANGE = 1, SEG_BEZIER = 2
 
+  !> One segment on given coordinates in Bezier form, for many evaluations at fixed
+  !! positions: x(t) = x_0 + A(t)/W(t), (A, W)(t) = sum_j B_j(t) h_j, with the Bernstein
+  !! polynomials B_j of degree p and the homogeneous Bezier points
+  !! h_j = sum_A C(A, j) w_A (x_A - x_0, 1). A Lagrange edge is a polynomial Bezier curve
+  !! (W = 1): h = x_1, x_2 for 2 nodes; x_1, 2 x_mid - (x_1 + x_3)/2, x_3 for 3 nodes (less
+  !! x_0). The origin x_0 is the segment's first node: relative to it the Bezier points are of
+  !! the size of the segment, so the derivatives lose no digits to the size of the
+  !! coordinates (x_A W' and A' cancel in x' = (A' - W' x)/W). The contact kernels build the
+  !! curves of a master surface once per force evaluation (`surface_curves`); its
+  !! closest-point projections then evaluate the segments many times per point without the
+  !! extraction operator, the weights and the gather of the nodes, and one pass gives the
+  !! point and both derivatives. Same curve as `segment_geometry`, to round-off.
+  !! No default initialisation: a local curve costs nothing until it is built.
+  type :: segment_curve_t
+    !> Degree, and whether W varies (Bezier segments) or is 1 (Lagrange edges).
+    integer :: p
+    logical :: rational
+    !> Origin x_0 (2) and homogeneous Bezier points (w x, w y, w) relative to it, (3, p + 1)
+    !! used.
+    real(dp) :: x0(2)
+    real(dp) :: h(3, MAX_SEG_NODES)
+    !> Points at t_k = k/CURVE_SAMPLES, (2, 0:CURVE_SAMPLES): evaluated once with the curve,
+    !! not for every point projected onto it.
+    real(dp) :: xk(2, 0:CURVE_SAMPLES)
+  end type segment_curve_t
+
   !> A contact surface: segments, their nodes, neighbours, Gauss points and nodal weights.
   type :: contact_surface_t
     !> Surface name (upper case, as in the deck).
@@ -75,33 +101,11 @@ module ictus_contact_surface
     real(dp), allocatable :: gp_t(:)
     real(dp), allocatable :: gp_wj(:)
     real(dp), allocatable :: gp_r(:,:)
+    !> The segments on the reference coordinates (nseg): the mortar integrals take their
+    !! length measure from them.
+    type(segment_curve_t), allocatable :: ref(:)
   end type contact_surface_t
 
-  !> One segment on given coordinates in Bezier form, for many evaluations at fixed
-  !! positions: x(t) = x_0 + A(t)/W(t), (A, W)(t) = sum_j B_j(t) h_j, with the Bernstein
-  !! polynomials B_j of degree p and the homogeneous Bezier points
-  !! h_j = sum_A C(A, j) w_A (x_A - x_0, 1). A Lagrange edge is a polynomial Bezier curve
-  !! (W = 1): h = x_1, x_2 for 2 nodes; x_1, 2 x_mid - (x_1 + x_3)/2, x_3 for 3 nodes (less
-  !! x_0). The origin x_0 is the segment's first node: relative to it the Bezier points are of
-  !! the size of the segment, so the derivatives lose no digits to the size of the
-  !! coordinates (x_A W' and A' cancel in x' = (A' - W' x)/W). The contact kernels build the
-  !! curves of a master surface once per force evaluation (`surface_curves`); its
-  !! closest-point projections then evaluate the segments many times per point without the
-  !! extraction operator, the weights and the gather of the nodes, and one pass gives the
-  !! point and both derivatives. Same curve as `segment_geometry`, to round-off.
-  !! No default initialisation: a local curve costs nothing until it is built.
-  type :: segment_curve_t
-    !> Degree, and whether W varies (Bezier segments) or is 1 (Lagrange edges).
-    integer :: p
-    logical :: rational
-    !> Origin x_0 (2) and homogeneous Bezier points (w x, w y, w) relative to it, (3, p + 1)
-    !! used.
-    real(dp) :: x0(2)
-    real(dp) :: h(3, MAX_SEG_NODES)
-    !> Points at t_k = k/CURVE_SAMPLES, (2, 0:CURVE_SAMPLES): evaluated once with the curve,
-    !! not for every point projected onto it.
-    real(dp) :: xk(2, 0:CURVE_SAMPLES)
-  end type segment_curve_t
 
 contains
 
@@ -147,6 +151,8 @@ contains
     call collect_nodes(this, size(x0, 2))
     call link_neighbours(this, x0)
     call setup_gauss(this, x0, ngauss)
+    allocate(this%ref(ns))
+    call surface_curves(this, x0, this%ref)
   end subroutine surface_init
 
   !> Releases everything a surface holds.

@@ -9,7 +9,7 @@ module ictus_io_deck_contact
   use ictus_core_errors, only: input_error
   use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_real, shown
   use ictus_io_deck_types, only: deck_t, contact_pair_in_t, rigid_wall_in_t, &
-      CONTACT_NODE_TO_SEGMENT, interaction_in_t
+      CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR, interaction_in_t
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_param, &
       get_name, get_choice, get_reals, get_positive, one_line, count_ok, tok_name, &
       no_data, line_reals
@@ -41,8 +41,9 @@ contains
     call get_name(c, 'NAME', .true., p%name)
     call get_positive(c, 'PENALTY', p%penalty)
     call get_interaction(c, p%interaction, p%tangential_penalty)
-    call get_choice(c, 'ALGORITHM', 'TWO HALF PASS|NODE TO SEGMENT', kind)
+    call get_choice(c, 'ALGORITHM', 'TWO HALF PASS|NODE TO SEGMENT|MORTAR', kind)
     if (kind == 2) p%algorithm = CONTACT_NODE_TO_SEGMENT
+    if (kind == 3) p%algorithm = CONTACT_MORTAR
     call get_choice(c, 'STABILITY', 'STOP|WARN', kind)
     p%stability_warn = kind == 2
     if (get_param(c, 'MASS PENALTY', v)) then

@@ -19,7 +19,7 @@ module ictus_io_deck_echo
   use ictus_io_deck_types, only: deck_t, set_in_t, material_in_t, ANALYSIS_PLANE_STRESS, &
       etype_name, surface_in_t, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
-      OP_ELEVATE, CONTACT_NODE_TO_SEGMENT, BC_VELOCITY, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP
+      OP_ELEVATE, CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR, BC_VELOCITY, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP
   use ictus_solver_model, only: NVAR, VAR_NAMES
   implicit none
   private
@@ -347,8 +347,7 @@ contains
     do k = 1, d%n_pairs
       associate (p => d%pairs(k))
         line = '*CONTACT PAIR, NAME='//trim(p%name)//', PENALTY='//real_text(p%penalty)// &
-            ', ALGORITHM='//trim(merge('NODE TO SEGMENT', 'TWO HALF PASS  ', &
-            p%algorithm == CONTACT_NODE_TO_SEGMENT))
+            ', ALGORITHM='//trim(algorithm_name(p%algorithm))
         if (p%mass_penalty == 0.0_dp) then
           line = line//', MASS PENALTY=AUTO'
         else if (p%mass_penalty > 0.0_dp) then
@@ -694,4 +693,18 @@ contains
     several_sides = .false.
     if (allocated(s%side_code)) several_sides = size(s%side_code) > 1
   end function several_sides
+
+  !> The ALGORITHM= value of a CONTACT_* kind.
+  pure function algorithm_name(kind) result(name)
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: name
+    select case (kind)
+    case (CONTACT_NODE_TO_SEGMENT)
+      name = 'NODE TO SEGMENT'
+    case (CONTACT_MORTAR)
+      name = 'MORTAR'
+    case default
+      name = 'TWO HALF PASS'
+    end select
+  end function algorithm_name
 end module ictus_io_deck_echo

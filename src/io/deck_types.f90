@@ -29,7 +29,7 @@ module ictus_io_deck_types
       MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
       HRZ_FULL, HRZ_GAUSS2, &
       OP_ELEVATE, OP_REFINE, &
-      CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT
+      CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR
 
   !> Length of a "file:line" location string.
   integer, parameter :: where_len = 320
@@ -38,7 +38,8 @@ module ictus_io_deck_types
   integer, parameter :: SET_NODE = 1, SET_ELEMENT = 2
   integer, parameter :: SURF_ELEMENT = 1, SURF_PATCH = 2
   integer, parameter :: OP_ELEVATE = 1, OP_REFINE = 2
-  integer, parameter :: CONTACT_TWO_HALF_PASS = 1, CONTACT_NODE_TO_SEGMENT = 2
+  integer, parameter :: CONTACT_TWO_HALF_PASS = 1, CONTACT_NODE_TO_SEGMENT = 2, &
+      CONTACT_MORTAR = 3
   !> *DLOAD load types, *AMPLITUDE definitions, *BOUNDARY types.
   integer, parameter :: DLOAD_PRESSURE = 1, DLOAD_GRAV = 2
   integer, parameter :: AMP_DEF_TABULAR = 1, AMP_DEF_SMOOTH_STEP = 2

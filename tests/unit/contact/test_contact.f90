@@ -14,10 +14,11 @@ program test_contact
   use ictus_geometry_sides, only: SIDE_ETA0, SIDE_ETA1
   use ictus_contact_surface, only: surface_init, face_segment, element_area, &
       patch_side_segments, SEG_LAGRANGE, SEG_BEZIER
+  use ictus_test_contact, only: q8_row, q8_surface, nurbs_surface
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, contact_forces, contact_stability, &
       contact_failures, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
-      contact_define_friction, contact_commit
+      contact_define_friction, contact_commit, PAIR_MORTAR
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: eps = 1.0e5_dp, gap = 1.0e-3_dp, len = 2.0_dp
@@ -33,85 +34,11 @@ program test_contact
   call friction_steps(t, PAIR_WALL, 'friction, wall')
   call friction_steps(t, PAIR_NODE_TO_SEGMENT, 'friction, NTS')
   call friction_steps(t, PAIR_TWO_HALF_PASS, 'friction, THP')
+  call friction_steps(t, PAIR_MORTAR, 'friction, MORTAR')
   call outside_points(t)
   call t%finish()
 
 contains
-
-  !> Appends a row of ne square-ish Q8 elements [xa, xa + ne h] x [ya, ya + hy] to x(:, 1:nn)
-  !! and returns their connectivity (8, ne) (corners counter-clockwise, then midsides).
-  subroutine q8_row(ne, xa, ya, h, hy, x, nn, econn)
-    integer, intent(in) :: ne
-    real(dp), intent(in) :: xa, ya, h, hy
-    real(dp), intent(inout) :: x(:,:)
-    integer, intent(inout) :: nn
-    integer, intent(out) :: econn(8, ne)
-    integer :: i, e, b0, t0, bm0, tm0, v0
-    b0 = nn
-    t0 = nn + ne + 1
-    bm0 = nn + 2*(ne + 1)
-    tm0 = bm0 + ne
-    v0 = tm0 + ne
-    do i = 0, ne
-      x(:, b0 + i + 1) = [xa + i*h, ya]
-      x(:, t0 + i + 1) = [xa + i*h, ya + hy]
-      x(:, v0 + i + 1) = [xa + i*h, ya + 0.5_dp*hy]
-    end do
-    do e = 1, ne
-      x(:, bm0 + e) = [xa + (e - 0.5_dp)*h, ya]
-      x(:, tm0 + e) = [xa + (e - 0.5_dp)*h, ya + hy]
-      econn(:, e) = [b0 + e, b0 + e + 1, t0 + e + 1, t0 + e, bm0 + e, v0 + e + 1, tm0 + e, &
-          v0 + e]
-    end do
-    nn = v0 + ne + 1
-  end subroutine q8_row
-
-  !> Surface `is` of c from face `face` of every element of a Q8 row.
-  subroutine q8_surface(c, is, name, econn, face, x)
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: is, econn(:,:), face
-    character(len=*), intent(in) :: name
-    real(dp), intent(in) :: x(:,:)
-    integer :: conn(3, size(econn, 2)), nens(size(econn, 2)), kinds(size(econn, 2)), e
-    do e = 1, size(econn, 2)
-      call face_segment(ETYPE_Q8, econn(:, e), face, conn(:, e), nens(e))
-    end do
-    kinds = SEG_LAGRANGE
-    call surface_init(c%surfaces(is), name, kinds, nens, conn, x)
-  end subroutine q8_surface
-
-  !> Surface `is` of c from side `side` of a biquadratic patch over [xa, xa+len] x [ya, ya+1],
-  !! refined into k1 x 2 elements; its control points are appended to x.
-  subroutine nurbs_surface(c, is, name, xa, ya, k1, side, x, nn)
-    type(contact_t), intent(inout) :: c
-    integer, intent(in) :: is, k1, side
-    character(len=*), intent(in) :: name
-    real(dp), intent(in) :: xa, ya
-    real(dp), intent(inout) :: x(:,:)
-    integer, intent(inout) :: nn
-    type(patch_t) :: patch
-    real(dp) :: cp(3, 9)
-    integer :: i, j, nseg, ierr
-    integer, allocatable :: nens(:), conn(:,:), elem(:), kinds(:)
-    real(dp), allocatable :: wgt(:,:), ext(:,:,:)
-    do j = 0, 2
-      do i = 0, 2
-        cp(:, 1 + i + 3*j) = [xa + 0.5_dp*len*i, ya + 0.5_dp*j, 1.0_dp]
-      end do
-    end do
-    call patch%init(name, [2, 2], [3, 3], [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], &
-        [0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], cp)
-    call patch_refine(patch, [k1, 2])
-    do i = 1, patch%n(1)*patch%n(2)
-      x(:, nn + i) = patch%cp(1:2, i)
-    end do
-    call patch_side_segments(patch, nn, side, nseg, nens, conn, wgt, ext, elem, ierr)
-    call t%equal_int(ierr, 0, name//': side ok')
-    nn = nn + patch%n(1)*patch%n(2)
-    allocate(kinds(nseg))
-    kinds = SEG_BEZIER
-    call surface_init(c%surfaces(is), name, kinds, nens, conn, x(:, 1:nn), wgt=wgt, ext=ext)
-  end subroutine nurbs_surface
 
   !> Checks of a flat interface along y = 0 (first surface below, second above, pair 1).
   subroutine check_flat(t, c, nn, x, label)
@@ -182,16 +109,18 @@ contains
     character(len=*), intent(in) :: label
     type(contact_t) :: c
     real(dp) :: x(2, 400)
-    integer :: nn, e1(8, 3)
+    integer :: nn, e1(8, 3), ierr
     nn = 0
     call contact_init(c, 2, 1)
     if (q8_first) then
       call q8_row(3, 0.0_dp, -1.0_dp, len/3, 1.0_dp, x, nn, e1)
       call q8_surface(c, 1, 'LOW', e1, 3, x(:, 1:nn))
     else
-      call nurbs_surface(c, 1, 'LOW', 0.0_dp, -1.0_dp, 4, SIDE_ETA1, x, nn)
+      call nurbs_surface(c, 1, 'LOW', 0.0_dp, -1.0_dp, len, 4, SIDE_ETA1, x, nn, ierr)
+      call t%equal_int(ierr, 0, 'LOW: side ok')
     end if
-    call nurbs_surface(c, 2, 'UP', 0.0_dp, -gap, 5, SIDE_ETA0, x, nn)
+    call nurbs_surface(c, 2, 'UP', 0.0_dp, -gap, len, 5, SIDE_ETA0, x, nn, ierr)
+    call t%equal_int(ierr, 0, 'UP: side ok')
     call contact_define_pair(c, 1, 'flat', PAIR_TWO_HALF_PASS, eps, 1, 2)
     call contact_setup(c)
     call check_flat(t, c, nn, x, label)
