@@ -34,7 +34,8 @@ program test_mortar
   call patch_test(t, NURBS, 21, Q8, 10, 'NURBS 21 vs Q8 10')
   call others_on_patch_test(t)
   call curved_balance(t)
-  call energy_gradient(t)
+  call energy_gradient(t, NURBS, 'NURBS slave')
+  call energy_gradient(t, Q8, 'Q8 slave')
   call stability(t)
   call outside(t)
   call t%finish()
@@ -189,15 +190,17 @@ contains
     call contact_forces(c, nn, x(:, 1:nn), fc, energy)
   end function energy_at
 
-  !> f = -dW/dx: a tilted master (Q8 11 above NURBS 8, penetration from gap to gap/2 along
-  !! the interface); central differences of the energy in y at every slave node and for a
+  !> f = -dW/dx: a tilted master (Q8 11 above NURBS 8 or Q8 8, penetration from gap to
+  !! gap/2 along the interface; on Q8 the mortar weights are not the shape functions); central differences of the energy in y at every slave node and for a
   !! rigid y motion of the master.
-  subroutine energy_gradient(t)
+  subroutine energy_gradient(t, k1, label)
     type(checker_t), intent(inout) :: t
+    integer, intent(in) :: k1
+    character(len=*), intent(in) :: label
     type(contact_t) :: c
     real(dp) :: x(2, 600), xp(2, 600), fc(2, 600), energy, h, dw, fm
     integer :: nn, k, g, nlow
-    call two_bodies(c, NURBS, 8, Q8, 11, PAIR_MORTAR, x, nn, nlow)
+    call two_bodies(c, k1, 8, Q8, 11, PAIR_MORTAR, x, nn, nlow)
     ! the upper body tilted: y + gap x/(2 len); the lower one shrunk to [0.1, 1.9] along x,
     ! so that no slave point is near a master end (where the overlap length would move)
     x(2, nlow + 1:nn) = x(2, nlow + 1:nn) + 0.5_dp*gap*x(1, nlow + 1:nn)/len
@@ -214,7 +217,7 @@ contains
         xp(2, g) = x(2, g) - h
         dw = (dw - energy_at(c, nn, xp))/(2.0_dp*h)
         call t%close_abs(-dw, fc(2, g), 1.0e-7_dp*eps*gap*len/s1%nsn, &
-            'gradient: slave node force = -dW/dy')
+            label//': slave node force = -dW/dy')
       end do
       fm = 0.0_dp
       do k = 1, s2%nsn
@@ -225,7 +228,7 @@ contains
       dw = energy_at(c, nn, xp)
       xp(2, s2%nodes) = x(2, s2%nodes) - h
       dw = (dw - energy_at(c, nn, xp))/(2.0_dp*h)
-      call t%close(-dw, fm, 1.0e-7_dp, 'gradient: master resultant = -dW/dY (rigid motion)')
+      call t%close(-dw, fm, 1.0e-7_dp, label//': master resultant = -dW/dY (rigid motion)')
     end associate
   end subroutine energy_gradient
 
@@ -259,9 +262,11 @@ contains
 
   !> A slave twice as long as the master: LOW [0, 2] (Q8 8) under UP [0, 1] (Q8 4), both
   !! penetrating by gap; the slave points over (1, 1 + search radius] lie behind the
-  !! master's end tangent and project beyond it. Resultant: eps g (1 - h/6) from the slave
-  !! nodes on [0, 1) with all their support under the master, plus p = eps g/2 times h/6
-  !! from the node at x = 1 (h = 0.25).
+  !! master's end tangent and project beyond it. The mortar weights of the quadratic edges are
+  !! the Bernstein polynomials (each integrates to h/3 over an edge), so the corner node at
+  !! x = 1 has l = 2h/3, half of it under the master: p = eps g/2. Resultant: eps g (1 - h/3)
+  !! from the nodes with all their support under the master, plus eps g/2 times h/3 from
+  !! the node at x = 1: eps g (1 - h/6), h = 0.25.
   subroutine outside(t)
     type(checker_t), intent(inout) :: t
     type(contact_t) :: c
@@ -281,8 +286,7 @@ contains
       call t%true(p%outside_points > 0, 'outside: counted')
       call t%equal_int(p%outside_surf, 1, 'outside: on the slave')
       call t%true(p%outside_x(1) > 1.0_dp, 'outside: the first one lies beyond x = 1')
-      ! the slave node at x = 1 has half its support (h/6 of h/3) under the master: p = eps g/2
-      call t%close(p%force_second(2), eps*gap*(1.0_dp - 0.25_dp/12.0_dp), 1.0e-12_dp, &
+      call t%close(p%force_second(2), eps*gap*(1.0_dp - 0.25_dp/6.0_dp), 1.0e-12_dp, &
           'outside: the resultant of the overlap')
       call t%close_abs(p%force_first(2) + p%force_second(2), 0.0_dp, 1.0e-10_dp, &
           'outside: action = reaction')
