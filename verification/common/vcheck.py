@@ -123,15 +123,6 @@ def mesh_points(mesh):
     return pts
 
 
-def same_bits(a, b):
-    """Whether every dataset under /history and /fields of two results files is equal."""
-    fa, fb = h5py.File(a, "r"), h5py.File(b, "r")
-    names = []
-    for g in ("history", "fields"):
-        fa[g].visititems(lambda n, o: names.append(g + "/" + n) if hasattr(o, "shape") else None)
-    return len(names) > 0 and all(n in fb and np.array_equal(fa[n][()], fb[n][()]) for n in names)
-
-
 def square_patch(name, spans, offset=0.0, extra=""):
     """A quadratic patch on the unit square shifted by `offset` (both directions): uniform
     knots, control points at the Greville abscissae (an affine map). Returns the cards
