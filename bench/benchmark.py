@@ -45,7 +45,9 @@ CASES = ["q8", "q8-consistent", "q8-contact", "iga", "iga-consistent", "iga-corr
          "iga-contact"]
 # also accepted by --cases: the consistent mass solved by the conjugate gradient
 EXTRA_CASES = ["q8-consistent-cg", "iga-consistent-cg", "q8-consistent-cholesky",
-               "iga-consistent-cholesky", "q8-damped", "iga-damped"]
+               "iga-consistent-cholesky", "q8-damped", "iga-damped", "q8-contact-mortar",
+               "iga-contact-mortar"]
+# *-contact-mortar: the contact case with ALGORITHM=MORTAR
 # *-damped: the lumped case with mass-proportional damping (*DAMPING, ALPHA=DAMPING_ALPHA)
 DAMPING_ALPHA = 1.0
 # the consistent-mass solvers as ictus-bench reports them (MASS_SOLVER_* of src/solver/model.f90)
@@ -122,7 +124,8 @@ def write_deck(path, case, size, dt=0.0, t_end=1.0):
     solver = {"consistent-cg": ", MASS SOLVER=CG",
               "consistent-cholesky": ", MASS SOLVER=CHOLESKY",
               "corrector": ", MASS SOLVER=CORRECTOR, MASS PASSES=2"}.get(rest, "")
-    contact = rest == "contact"
+    contact = rest.startswith("contact")
+    algorithm = ", ALGORITHM=MORTAR" if rest == "contact-mortar" else ""
     lumped = "HRZ" if disc == "q8" else "ROW SUM"
     head, mass = header(f"benchmark {case} {n} x {n}", "CONSISTENT" if consistent else lumped)
     if rest == "damped":
@@ -144,7 +147,7 @@ def write_deck(path, case, size, dt=0.0, t_end=1.0):
             f.write("*SURFACE, NAME=UP_BOTTOM, TYPE=ELEMENT\n")
             np.savetxt(f, bottom.reshape(-1, 1), fmt="%d, S1")
             f.write("*BOUNDARY\nLO_BOTTOM, 2, 2\nLO_LL, 1, 1\n")
-            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}\nLO_TOP, UP_BOTTOM\n")
+            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}{algorithm}\nLO_TOP, UP_BOTTOM\n")
         elif not contact:
             iga_block(f, "BODY", n, n, 0.0, 0.0, 1.0, 1.0)
             f.write("*BOUNDARY\nBODY_BOTTOM, 2, 2\n1, 1, 1\n")
@@ -152,7 +155,7 @@ def write_deck(path, case, size, dt=0.0, t_end=1.0):
             iga_block(f, "LO", n, n // 2, 0.0, 0.0, 1.0, 0.5)
             iga_block(f, "UP", n, n // 2, 0.0, 0.5 - overlap, 1.0, 0.5)
             f.write("*BOUNDARY\nLO_BOTTOM, 2, 2\n1, 1, 1\n")
-            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}\nLO_TOP, UP_BOTTOM\n")
+            f.write(f"*CONTACT PAIR, NAME=IFACE, PENALTY={eps!r}{algorithm}\nLO_TOP, UP_BOTTOM\n")
         f.write(mass)
         f.write(step_cards(dt, t_end, solver))
     return n * n

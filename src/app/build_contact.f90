@@ -15,7 +15,7 @@ module ictus_app_build_contact
       element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
-      contact_define_friction, PAIR_MORTAR
+      contact_define_friction, PAIR_MORTAR, PAIR_TIE
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
       CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR
@@ -56,11 +56,12 @@ contains
         if (s1 > 0 .and. s1 == s2) call input_error(p%where, '*CONTACT PAIR '// &
             trim(p%name)//': both surfaces are '//trim(p%first)// &
             ' (self-contact is not supported)')
-        if (.not. (p%penalty > 0.0_dp)) call input_error(p%where, '*CONTACT PAIR '// &
-            trim(p%name)//': PENALTY must be positive')
+        if (.not. (p%penalty > 0.0_dp) .and. .not. p%tie) call input_error(p%where, &
+            '*CONTACT PAIR '//trim(p%name)//': PENALTY must be positive')
         kind = PAIR_TWO_HALF_PASS
         if (p%algorithm == CONTACT_NODE_TO_SEGMENT) kind = PAIR_NODE_TO_SEGMENT
         if (p%algorithm == CONTACT_MORTAR) kind = PAIR_MORTAR
+        if (p%tie) kind = PAIR_TIE
         if (p%algorithm == CONTACT_MORTAR .and. p%mass_penalty >= 0.0_dp) call input_error( &
             p%where, '*CONTACT PAIR '//trim(p%name)//': MASS PENALTY (bipenalty) is not '// &
             'available with ALGORITHM=MORTAR; use TWO HALF PASS or NODE TO SEGMENT, or '// &
@@ -88,8 +89,34 @@ contains
     end do
     call check_names(deck, c)
     if (error_count() == n0) call define_friction(deck, c)
-    if (error_count() == n0 .and. c%nsurf > 0) call contact_setup(c)
+    if (error_count() == n0 .and. c%nsurf > 0) then
+      call contact_setup(c, model%x0)
+      call check_ties(deck, c)
+    end if
   end subroutine build_contact
+
+  !> Every *TIE must tie something: an input error when no point of its first surface lies
+  !! on the second (within 5 % of the longest segment), a warning naming the count when
+  !! some do not.
+  subroutine check_ties(deck, c)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(in) :: c
+    integer :: i
+    do i = 1, deck%n_pairs
+      if (.not. deck%pairs(i)%tie) cycle
+      associate (p => deck%pairs(i), mo => c%pairs(i)%mo)
+        if (mo%n == 0) then
+          call input_error(p%where, '*TIE '//trim(p%name)//': no point of surface '// &
+              trim(p%first)//' lies on surface '//trim(p%second)//' (within 5 % of the '// &
+              'longest segment); tied surfaces must lie on each other')
+        else if (mo%untied > 0) then
+          call warning(p%where, '*TIE '//trim(p%name)//': '//str(mo%untied)//' of '// &
+              str(mo%n + mo%untied)//' integration points of surface '//trim(p%first)// &
+              ' lie off surface '//trim(p%second)//' and are not tied')
+        end if
+      end associate
+    end do
+  end subroutine check_ties
 
   !> Coulomb friction of the pairs and walls with INTERACTION= (mu of its *FRICTION; the
   !! tangential penalty TANGENTIAL PENALTY=, by default the pair's PENALTY).

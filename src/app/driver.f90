@@ -27,7 +27,7 @@ module ictus_app_driver
   use ictus_solver_timestep, only: omega_max_power
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_ratio, &
       contact_bipenalty_init
-  use ictus_contact_contact, only: contact_t
+  use ictus_contact_contact, only: contact_t, PAIR_TIE
   use ictus_app_build_contact, only: build_contact
   use ictus_app_build_loads, only: build_loads
   use ictus_io_deck_types, only: deck_t
@@ -158,7 +158,10 @@ contains
           ' steps (a shorter t_end, or a larger dt)')
       call input_failure()
     end if
-    if (contact%npairs > 0) call check_contact_ratio(deck, model, dom, ops, contact, cs, dt)
+    if (contact%npairs > 0) then
+      call tie_penalties(model, dom, ops, contact, cs, dt)
+      call check_contact_ratio(deck, model, dom, ops, contact, cs, dt)
+    end if
     call check_viz_memory(deck, model, dom)
     call log_summary(model, dom, ops, mop, dt)
     if (opt%check_only) then
@@ -169,6 +172,38 @@ contains
     call log_info(deck_echo(deck, .false.))
     call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
+
+  !> The penalty of each *TIE without PENALTY=: the one that puts its contact ratio at
+  !! r = 0.9 at the run's step dt, logged (doc/contact.md §4b: near r = 1 the predictor-
+  !! corrector step removes the predicted gap, as a forward-increment multiplier would, and
+  !! the static compliance of the tie (1 - r)/eps is a tenth of its penalty's). Until here such ties have penalty 0, so that they do not limit
+  !! the automatic step.
+  subroutine tie_penalties(model, dom, ops, contact, cs, dt)
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(in) :: dom
+    type(operators_t), intent(in) :: ops
+    type(contact_t), intent(inout) :: contact
+    type(contact_step_t), intent(inout) :: cs
+    real(dp), intent(in) :: dt
+    real(dp), parameter :: r_tie = 0.9_dp
+    real(dp) :: r1, r_pair(contact%npairs)
+    character(len=256) :: at
+    logical :: auto(contact%npairs)
+    integer :: k
+    auto = contact%pairs%kind == PAIR_TIE .and. .not. contact%pairs%penalty > 0.0_dp
+    if (.not. any(auto)) return
+    do k = 1, contact%npairs
+      if (auto(k)) contact%pairs(k)%penalty = 1.0_dp
+    end do
+    call contact_ratio(cs, contact, model%x0, 0.0_dp*model%x0(:, dom%halo%gid), ops%m_pos, &
+        1.0_dp, r1, at, r_pair)
+    do k = 1, contact%npairs
+      if (.not. auto(k)) cycle
+      contact%pairs(k)%penalty = r_tie/(dt*dt*r_pair(k))
+      call log_info('tie '//trim(contact%pairs(k)%name)//': penalty '// &
+          str(contact%pairs(k)%penalty)//' (contact ratio r = 0.9 at dt = '//str(dt)//')')
+    end do
+  end subroutine tie_penalties
 
   !> The contact ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of each pair at the start and the
   !! chosen step (doc/contact.md §6): logged; above 1/2 (the margin of the automatic step) a
@@ -184,7 +219,7 @@ contains
     type(contact_step_t), intent(inout) :: cs
     real(dp), intent(in) :: dt
     real(dp), parameter :: r_limit = 1.0_dp
-    real(dp) :: r1, r_pair(contact%npairs)
+    real(dp) :: r1, r_warn, r_pair(contact%npairs)
     character(len=256) :: where
     character(len=:), allocatable :: card, at, msg
     logical :: warn_only
@@ -193,9 +228,18 @@ contains
         dt, r1, where, r_pair)
     call log_info('contact: stability ratio r = dt^2 eps (l_s/m_s + l_m/m_m) = '//str(r1, 4)// &
         ' at the start ('//trim(where)//')')
-    if (r1 > 0.5_dp .and. .not. r1 > r_limit) call warning('contact', 'the stability ratio '// &
-        'r = '//str(r1, 4)//' exceeds 1/2 at '//trim(where)//' (the margin ictus asks for; '// &
-        'doc/contact.md §6 puts the limit of the predictor-corrector penalty at r = 1)')
+    ! a *TIE without PENALTY= sits at r = 0.9 by design (tie_penalties): no margin warning
+    r_warn = 0.0_dp
+    do k = 1, contact%npairs
+      if (k <= deck%n_pairs) then
+        if (deck%pairs(k)%tie .and. .not. deck%pairs(k)%penalty > 0.0_dp) cycle
+      end if
+      r_warn = max(r_warn, r_pair(k))
+    end do
+    if (r_warn > 0.5_dp .and. .not. r1 > r_limit) call warning('contact', 'the stability '// &
+        'ratio r = '//str(r1, 4)//' exceeds 1/2 at '//trim(where)//' (the margin ictus '// &
+        'asks for; doc/contact.md §6 puts the limit of the predictor-corrector penalty at '// &
+        'r = 1)')
     do k = 1, contact%npairs
       if (.not. r_pair(k) > r_limit) cycle
       if (k <= deck%n_pairs) then

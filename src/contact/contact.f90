@@ -13,8 +13,9 @@ module ictus_contact_contact
       MAX_SEG_NODES
   use ictus_contact_pair, only: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       PAIR_WALL, pair_setup, update_grid, closest_point, two_half_pass_forces, &
-      node_to_segment_forces, pair_commit, PAIR_MORTAR
+      node_to_segment_forces, pair_commit, PAIR_MORTAR, PAIR_TIE
   use ictus_contact_mortar, only: mortar_forces, mortar_ratio
+  use ictus_contact_tie, only: tie_setup, tie_forces
   use ictus_contact_wall, only: wall_forces
   use ictus_contact_search, only: search_grid_t
   use ictus_contact_projection, only: projection_t, PROJ_INTERIOR, PROJ_CORNER
@@ -23,7 +24,7 @@ module ictus_contact_contact
   public :: contact_t, contact_init, contact_define_pair, contact_define_wall, contact_setup, &
       contact_forces, contact_stability, contact_failures, contact_free, contact_pair_t, &
       contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, PAIR_MORTAR, &
-      contact_define_friction, contact_commit, pair_stiffness
+      PAIR_TIE, contact_define_friction, contact_commit, pair_stiffness
 
   !> All pairs and walls of a model (walls after the pairs), their surfaces and results.
   type :: contact_t
@@ -154,14 +155,19 @@ contains
     end do
   end subroutine contact_commit
 
-  !> Sizes all work arrays (after surfaces and pairs are defined).
-  subroutine contact_setup(c)
+  !> Sizes all work arrays (after surfaces and pairs are defined); ties (PAIR_TIE) find
+  !! their tied points on the reference coordinates x0 (2, nn), which they need.
+  subroutine contact_setup(c, x0)
     type(contact_t), intent(inout) :: c
+    real(dp), intent(in), optional :: x0(:,:)
     integer :: k, s2
     do k = 1, c%npairs
       s2 = c%pairs(k)%second
       if (s2 == 0) s2 = c%pairs(k)%first
       call pair_setup(c%pairs(k), c%surfaces(c%pairs(k)%first), c%surfaces(s2))
+      if (c%pairs(k)%kind /= PAIR_TIE) cycle
+      if (.not. present(x0)) error stop 'contact_setup: a tie needs the reference coordinates'
+      call tie_setup(c%pairs(k), c%surfaces(c%pairs(k)%first), c%surfaces(s2), x0)
     end do
   end subroutine contact_setup
 
@@ -227,6 +233,8 @@ contains
               xprev, dm)
         case (PAIR_MORTAR)
           call mortar_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, xprev)
+        case (PAIR_TIE)
+          call tie_forces(p, c%surfaces(p%first), c%surfaces(p%second), x, fc)
         case (PAIR_WALL)
           call wall_forces(p, c%surfaces(p%first), x, fc, xprev)
         end select
@@ -277,7 +285,7 @@ contains
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%first), &
               p%grid_first, p%curves_first, .false., nn, x, m_diag, dt, r, at)
-        case (PAIR_MORTAR)
+        case (PAIR_MORTAR, PAIR_TIE)
           call mortar_ratio(p, c%surfaces(p%first), c%surfaces(p%second), x, m_diag, q, gs, gm)
           r = huge(1.0_dp)
           if (q < huge(1.0_dp)) r = dt*dt*pair_stiffness(p)*q

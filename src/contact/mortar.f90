@@ -27,13 +27,13 @@ module ictus_contact_mortar
   use ictus_contact_surface, only: contact_surface_t, MAX_SEG_NODES, segment_shape, &
       surface_curves, curve_point, curve_geometry, CURVE_SAMPLES, SEG_LAGRANGE
   use ictus_contact_pair, only: contact_pair_t, mortar_t, pair_reset_results, update_grid, &
-      closest_point, coulomb, point_increment
+      closest_point, coulomb, point_increment, PAIR_TIE
   use ictus_contact_projection, only: projection_t, project_on_curve, PROJ_INTERIOR, &
       PROJ_CORNER, PROJ_OUTSIDE, SEG_INTERIOR
   use ictus_contact_search, only: grid_query
   implicit none
   private
-  public :: mortar_forces, mortar_ratio, mortar_points
+  public :: mortar_forces, mortar_ratio, mortar_points, mortar_weights, projected, distribute
 
   !> Most cuts of one slave segment (master segment ends projecting into it); more are
   !! ignored (the pieces are then integrated across a master segment end, less exactly).
@@ -287,9 +287,9 @@ contains
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
     real(dp), intent(inout) :: fc(:,:)
-    real(dp) :: r(MAX_SEG_NODES), rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
-    real(dp) :: lam, theta, tau(2), tr(2), f(2), phi(MAX_SEG_NODES)
-    integer :: i, s, m, a, g
+    real(dp) :: r(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
+    real(dp) :: lam, theta, tau(2), tr(2), phi(MAX_SEG_NODES)
+    integer :: i, s, a
     associate (mo => pair%mo)
       do i = 1, mo%n
         if (.not. projected(mo, i)) cycle
@@ -306,23 +306,38 @@ contains
         tau = [-mo%normal(2, i), mo%normal(1, i)]
         tr = (lam*mo%normal(:, i) + theta*tau)*mo%wj(i)
         if (theta /= 0.0_dp) pair%fr%force = pair%fr%force + theta*tau*mo%wj(i)
-        do a = 1, s1%nen(s)
-          g = s1%conn(a, s)
-          f = r(a)*tr
-          fc(:, g) = fc(:, g) + f
-          pair%force_first = pair%force_first + f
-        end do
-        m = mo%mseg(i)
-        call segment_shape(s2, m, mo%tm(i), rm, dr, ddr)
-        do a = 1, s2%nen(m)
-          g = s2%conn(a, m)
-          f = rm(a)*tr
-          fc(:, g) = fc(:, g) - f
-          pair%force_second = pair%force_second - f
-        end do
+        call distribute(pair, s1, s2, i, r, tr, fc)
       end do
     end associate
   end subroutine apply_forces
+
+  !> The force tr (2) of mortar point i onto the slave nodes of its segment (shape values r)
+  !! and, with the opposite sign, onto the master nodes of its closest point; the resultants
+  !! force_first and force_second summed from the nodal contributions.
+  subroutine distribute(pair, s1, s2, i, r, tr, fc)
+    type(contact_pair_t), intent(inout) :: pair
+    type(contact_surface_t), intent(in) :: s1, s2
+    integer, intent(in) :: i
+    real(dp), intent(in) :: r(:), tr(2)
+    real(dp), intent(inout) :: fc(:,:)
+    real(dp) :: rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), f(2)
+    integer :: s, m, a, g
+    s = pair%mo%sseg(i)
+    do a = 1, s1%nen(s)
+      g = s1%conn(a, s)
+      f = r(a)*tr
+      fc(:, g) = fc(:, g) + f
+      pair%force_first = pair%force_first + f
+    end do
+    m = pair%mo%mseg(i)
+    call segment_shape(s2, m, pair%mo%tm(i), rm, dr, ddr)
+    do a = 1, s2%nen(m)
+      g = s2%conn(a, m)
+      f = rm(a)*tr
+      fc(:, g) = fc(:, g) - f
+      pair%force_second = pair%force_second - f
+    end do
+  end subroutine distribute
 
   !> The largest MORTAR stability term of a pair (doc/contact.md §6): for each slave node A,
   !! q_A = <l/m>_slave + <l/m>_master, the means of l_B/m_B over the slave nodes and of
@@ -361,7 +376,8 @@ contains
     end do
     pair%failures = 0
     pair%outside_points = 0
-    call mortar_points(pair, s1, s2, x)
+    ! a tie keeps the points of its reference configuration
+    if (pair%kind /= PAIR_TIE) call mortar_points(pair, s1, s2, x)
     ws = 0.0_dp
     ss = 0.0_dp
     wm = 0.0_dp

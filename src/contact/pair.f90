@@ -25,11 +25,11 @@ module ictus_contact_pair
   public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
       pair_setup, pair_reset_results, update_grid, closest_point, half_pass, &
       two_half_pass_forces, node_to_segment_forces, friction_t, coulomb, pair_commit, &
-      PAIR_MORTAR, mortar_t, point_increment, mortar_resize
+      PAIR_MORTAR, PAIR_TIE, mortar_t, point_increment, mortar_resize
 
   !> Pair kinds.
   integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3, &
-      PAIR_MORTAR = 4
+      PAIR_MORTAR = 4, PAIR_TIE = 5
 
   !> Coulomb friction of a pair (doc/contact.md §4a): the coefficient, the tangential
   !! penalty, the tangential traction of every contact point (committed: of the last
@@ -58,11 +58,17 @@ module ictus_contact_pair
   !! normal, signed distance d). Per slave node: the weight l_A = sum N_A w J, the weighted
   !! gap g_A = sum N_A d w J over the projected points, the pressure p_A and the tangential
   !! traction t_A. Sized by pair_setup, grown (rarely) by the mortar kernel.
+  !! A tie (src/contact/tie.f90) keeps the points of the reference configuration that face
+  !! the master, each with its reference offset `off` (2, n) = X_slave - X_master, and
+  !! uses gap and slip for the x and y components of its weighted gap vector, p and t for
+  !! those of its traction; `untied` counts the slave points left out.
   type :: mortar_t
     integer :: n = 0
     integer, allocatable :: sseg(:), mseg(:), status(:)
     real(dp), allocatable :: ts(:), tm(:), wj(:), d(:), normal(:,:)
     real(dp), allocatable :: ell(:), gap(:), p(:), slip(:), t(:)
+    real(dp), allocatable :: off(:,:)
+    integer :: untied = 0
   end type mortar_t
 
   !> One *CONTACT PAIR or *RIGID WALL with its results of the last force evaluation.
@@ -132,7 +138,8 @@ contains
     type(contact_pair_t), intent(inout) :: pair
     type(contact_surface_t), intent(in) :: s1, s2
     integer :: ncand
-    if (pair%kind == PAIR_NODE_TO_SEGMENT .or. pair%kind == PAIR_MORTAR) then
+    if (pair%kind == PAIR_NODE_TO_SEGMENT .or. pair%kind == PAIR_MORTAR .or. &
+        pair%kind == PAIR_TIE) then
       pair%npoints = s1%nsn
     else
       pair%npoints = s1%ngp
@@ -158,7 +165,7 @@ contains
       allocate(pair%curves_first(0), pair%curves_second(0))
     end if
     allocate(pair%cand(max(ncand, 1)))
-    if (pair%kind == PAIR_MORTAR) call mortar_setup(pair%mo, s1, s2)
+    if (pair%kind == PAIR_MORTAR .or. pair%kind == PAIR_TIE) call mortar_setup(pair%mo, s1, s2)
     if (pair%fr%on) then
       pair%fr%npts = pair%npoints
       if (pair%kind == PAIR_TWO_HALF_PASS) pair%fr%npts = s1%ngp + s2%ngp

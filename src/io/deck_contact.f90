@@ -12,11 +12,12 @@ module ictus_io_deck_contact
       CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR, interaction_in_t
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_param, &
       get_name, get_choice, get_reals, get_positive, one_line, count_ok, tok_name, &
-      no_data, line_reals
+      no_data, line_reals, has_param
   use ictus_io_deck_grow, only: grow_pairs, grow_walls, grow_interactions
   implicit none
   private
-  public :: read_contact_pair, read_rigid_wall, read_surface_interaction, read_friction
+  public :: read_contact_pair, read_rigid_wall, read_surface_interaction, read_friction, &
+      read_tie
 
 contains
 
@@ -30,10 +31,9 @@ contains
     character(len=*), parameter :: expect = &
         '*CONTACT PAIR: expected "first surface, second surface"'
     type(contact_pair_in_t) :: p
-    type(token_t), allocatable :: toks(:)
     character(len=:), allocatable :: v
     real(dp) :: x(1)
-    integer :: kind, i, n, k
+    integer :: kind
     logical :: ok
 
     call check_params(c, 'NAME|PENALTY|ALGORITHM|MASS PENALTY|INTERACTION|TANGENTIAL PENALTY|'// &
@@ -59,9 +59,39 @@ contains
         end if
       end if
     end if
+    call add_pair(c, rd, d, p, expect)
+  end subroutine read_contact_pair
+
+  !> *TIE, NAME=, [PENALTY=]: one data line "first surface, second surface", glued by a
+  !! MORTAR tie (doc/contact.md §4b); without PENALTY= the penalty is set from the time step
+  !! (contact ratio r = 1/2).
+  subroutine read_tie(c, rd, d)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    character(len=*), parameter :: expect = '*TIE: expected "first surface, second surface"'
+    type(contact_pair_in_t) :: p
+    call check_params(c, 'NAME|PENALTY', '')
+    call get_name(c, 'NAME', .true., p%name)
+    if (has_param(c, 'PENALTY')) call get_positive(c, 'PENALTY', p%penalty)
+    p%tie = .true.
+    p%algorithm = CONTACT_MORTAR
+    call add_pair(c, rd, d, p, expect)
+  end subroutine read_tie
+
+  !> Adds the contact pair or tie p of card c with its data line "first, second" (expect:
+  !! the message for a bad line); names must differ from those of the earlier pairs.
+  subroutine add_pair(c, rd, d, p, expect)
+    type(card_t), intent(inout) :: c
+    type(reader_t), intent(inout) :: rd
+    type(deck_t), intent(inout) :: d
+    type(contact_pair_in_t), intent(inout) :: p
+    character(len=*), intent(in) :: expect
+    type(token_t), allocatable :: toks(:)
+    integer :: i, n, k
     do k = 1, d%n_pairs
       if (d%pairs(k)%name == p%name .and. len_trim(p%name) > 0) call card_error(c, &
-          'duplicate contact pair name '//trim(p%name)//' (first defined at '// &
+          'duplicate contact pair or tie name '//trim(p%name)//' (first defined at '// &
           trim(d%pairs(k)%where)//')')
     end do
     if (c%bad) return
@@ -74,7 +104,7 @@ contains
     call grow_pairs(d%pairs, d%n_pairs + 1)
     d%n_pairs = d%n_pairs + 1
     d%pairs(d%n_pairs) = p
-  end subroutine read_contact_pair
+  end subroutine add_pair
 
   !> *RIGID WALL, NAME=, POINT=x0,y0, NORMAL=nx,ny, PENALTY=, [INTERACTION=name],
   !! [TANGENTIAL PENALTY=value], [STABILITY=STOP|WARN]: one data line "surface".

@@ -346,6 +346,13 @@ contains
     end do
     do k = 1, d%n_pairs
       associate (p => d%pairs(k))
+        if (p%tie) then
+          line = '*TIE, NAME='//trim(p%name)
+          if (p%penalty > 0.0_dp) line = line//', PENALTY='//real_text(p%penalty)
+          call put(t, line)
+          call put(t, trim(p%first)//', '//trim(p%second))
+          cycle
+        end if
         line = '*CONTACT PAIR, NAME='//trim(p%name)//', PENALTY='//real_text(p%penalty)// &
             ', ALGORITHM='//trim(algorithm_name(p%algorithm))
         if (p%mass_penalty == 0.0_dp) then

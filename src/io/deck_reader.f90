@@ -37,7 +37,7 @@ module ictus_io_deck_reader
       read_damping, read_hyperelastic, read_plastic
   use ictus_io_deck_conditions, only: read_boundary, read_initial_conditions
   use ictus_io_deck_loads, only: read_amplitude, read_cload, read_dload
-  use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall, &
+  use ictus_io_deck_contact, only: read_contact_pair, read_rigid_wall, read_tie, &
       read_surface_interaction, read_friction
   use ictus_io_deck_interop, only: read_solid_section, refused_card, resolve_interop, &
       resolve_twins
@@ -267,6 +267,8 @@ contains
       call read_contact_pair(c, rd, d)
     case ('RIGID WALL')
       call read_rigid_wall(c, rd, d)
+    case ('TIE')
+      call read_tie(c, rd, d)
     case ('SURFACE INTERACTION')
       call read_surface_interaction(c, rd, d)
     case ('FRICTION')
@@ -307,7 +309,7 @@ contains
         'PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE', 'NSET', 'ELSET', 'SURFACE', &
         'BOUNDARY', 'INITIAL CONDITIONS', 'CONTACT PAIR', 'RIGID WALL', 'DAMPING', 'MASS', &
         'SOLID SECTION', 'STEP', 'DYNAMIC', 'OUTPUT', 'RESTART', 'END STEP', 'AMPLITUDE', &
-        'CLOAD', 'DLOAD', 'SURFACE INTERACTION', 'FRICTION')
+        'CLOAD', 'DLOAD', 'SURFACE INTERACTION', 'FRICTION', 'TIE')
       is_known_card = .true.
     case default
       is_known_card = .false.

@@ -307,7 +307,7 @@ module ictus_io_deck_types
     character(len=where_len) :: dynamic_where = ''
   end type step_in_t
 
-  !> *CONTACT PAIR.
+  !> *CONTACT PAIR or *TIE.
   type :: contact_pair_in_t
     character(len=str_len) :: name = ''
     real(dp) :: penalty = 0.0_dp
@@ -320,6 +320,8 @@ module ictus_io_deck_types
     !> STABILITY=WARN: run even when the contact ratio r exceeds its limit (default STOP:
     !! an input error).
     logical :: stability_warn = .false.
+    !> *TIE (a MORTAR tie; penalty 0: set from the time step).
+    logical :: tie = .false.
     character(len=str_len) :: first = ''
     character(len=str_len) :: second = ''
     character(len=where_len) :: where = ''

@@ -34,6 +34,7 @@
    PASS's on the same decks.
 """
 import os
+import re
 import sys
 
 import numpy as np
@@ -52,6 +53,7 @@ E, RHO = impact.E, impact.RHO
 OMEGA1 = np.pi * np.sqrt(E / ((1 - NU ** 2) * RHO)) / (H1 + H2)
 T_END = 10.0
 F_CONVERGED, TC_CONVERGED = 218.0, 0.762
+LB, HB, V0 = 1.0, 0.1, 1.0          # the tied bar: half length, height, speed
 
 
 def block(kind, name, y0, n, first_node, first_element):
@@ -65,13 +67,17 @@ def block(kind, name, y0, n, first_node, first_element):
 
 
 def patch_deck(lo, n_lo, up, n_up, algorithm):
+    """The patch test deck; algorithm "TIE": the blocks glued by *TIE (automatic penalty)
+    and pulled apart (the top moved up by delta)."""
     out = [impact.header(f"mortar patch test, {lo} {n_lo} vs {up} {n_up}, {algorithm}",
                          "PLANE STRAIN", NU)]
     c1, nxt, ne, m1 = block(lo, "LO", 0.0, n_lo, 1, 1)
     c2, _, _, m2 = block(up, "UP", H1, n_up, nxt, ne)
+    tie = algorithm == "TIE"
     out += [c1, c2, "*BOUNDARY\nLO_BOTTOM, 2, 2\nLO_LEFT, 1, 1\nUP_LEFT, 1, 1\n",
-            f"UP_TOP, 2, 2, {-DELTA!r}\n",
-            f"*CONTACT PAIR, NAME=PATCH, PENALTY={EPS!r}, ALGORITHM={algorithm}\n"
+            f"UP_TOP, 2, 2, {(DELTA if tie else -DELTA)!r}\n",
+            "*TIE, NAME=PATCH\n" if tie else
+            f"*CONTACT PAIR, NAME=PATCH, PENALTY={EPS!r}, ALGORITHM={algorithm}\n",
             "LO_TOP, UP_BOTTOM\n",
             f"*DAMPING, ALPHA={2 * OMEGA1!r}\n", m1, m2, impact.step(T_END, field_every=1000000)]
     return "".join(out)
@@ -82,17 +88,24 @@ def ell_over_m(kind):
     return 6.0 / (RHO * H1) if kind == "IGA" else 10.0 / (3.0 * RHO * (H1 / 2))
 
 
-def patch_run(args, lo, n_lo, up, n_up, algorithm):
+def patch_run(args, chk, lo, n_lo, up, n_up, algorithm):
     tag = algorithm.replace(" ", "").lower()
     path = os.path.join(args.work, f"patch_{lo}{n_lo}_{up}{n_up}_{tag}.inp")
     with open(path, "w") as fd:
         fd.write(patch_deck(lo, n_lo, up, n_up, algorithm))
     out = path.replace(".inp", ".h5")
-    vcheck.run_ictus(args, path, out)
+    _, log = vcheck.run_ictus(args, path, out)
     r = vcheck.Results(out)
     dt = float(r.history("dt")[0])
-    rr = EPS * dt ** 2 * (ell_over_m(lo) + ell_over_m(up))
-    p_pc = DELTA / ((H1 + H2) * (1 - NU ** 2) / E + (1 - rr / (1 + OMEGA1 * dt)) / EPS)
+    eps = EPS
+    if algorithm == "TIE":
+        # the automatic tie penalty: contact ratio 0.9 at dt (doc/contact.md §4b)
+        eps = 0.9 / (dt ** 2 * (ell_over_m(lo) + ell_over_m(up)))
+        logged = float(re.search(r"tie patch: penalty (\S+)", log).group(1))
+        chk.close(logged, eps, 1e-5, f"tie {lo} {n_lo} vs {up} {n_up}: the automatic penalty "
+                  "puts r = 0.9 at dt")
+    rr = eps * dt ** 2 * (ell_over_m(lo) + ell_over_m(up))
+    p_pc = DELTA / ((H1 + H2) * (1 - NU ** 2) / E + (1 - rr / (1 + OMEGA1 * dt)) / eps)
     steps = sorted(r.f["contact/patch"].keys())
     p = np.asarray(r.f[f"contact/patch/{steps[-1]}/pressure"])
     f1 = float(r.history("contact/patch/force_first")[-1, 1])
@@ -105,20 +118,27 @@ def patch_tests(args, chk):
                                ("IGA", 10, "IGA", 21), ("Q8", 8, "IGA", 11),
                                ("IGA", 10, "Q8", 21)):
         label = f"patch test, MORTAR, {lo} {n_lo} vs {up} {n_up}"
-        p, f1, f2, pp = patch_run(args, lo, n_lo, up, n_up, "MORTAR")
+        p, f1, f2, pp = patch_run(args, chk, lo, n_lo, up, n_up, "MORTAR")
         chk.below(float(np.max(np.abs(p - pp))) / pp, 1e-8,
                   f"{label}: max |p_A - p_pc|/p_pc over {len(p)} slave nodes")
         chk.close(-f1, pp * W, 1e-8, f"{label}: resultant on the lower block = p_pc W")
         chk.close(f2, pp * W, 1e-8, f"{label}: resultant on the upper block = p_pc W")
         chk.below(abs(f1 + f2) / (pp * W), 1e-12, f"{label}: action = reaction")
-    p, f1, f2, pp = patch_run(args, "Q8", 8, "Q8", 11, "NODE TO SEGMENT")
+    for lo, n_lo, up, n_up in (("Q8", 8, "IGA", 11), ("IGA", 10, "Q8", 21)):
+        label = f"tie patch test (tension), {lo} {n_lo} vs {up} {n_up}"
+        p, f1, f2, pp = patch_run(args, chk, lo, n_lo, up, n_up, "TIE")
+        chk.below(float(np.max(np.abs(p - pp))) / pp, 1e-8,
+                  f"{label}: max ||P_A| - p_pc|/p_pc over {len(p)} slave nodes")
+        chk.close(f1, pp * W, 1e-8, f"{label}: the lower block pulled up by p_pc W")
+        chk.close(-f2, pp * W, 1e-8, f"{label}: the upper block pulled down by p_pc W")
+    p, f1, f2, pp = patch_run(args, chk, "Q8", 8, "Q8", 11, "NODE TO SEGMENT")
     dev = float(np.max(np.abs(p[p > 0] - pp))) / pp
     print(f"  NODE TO SEGMENT, Q8 8 vs 11: max |p_A - p_pc|/p_pc over the nodes in contact = "
           f"{dev:.4e} ({np.count_nonzero(p == 0)} of {len(p)} nodes without pressure), "
           f"|F_1 + F_2|/(p W) = {abs(f1 + f2) / (pp * W):.2e}")
     chk.true(dev > 0.01, f"patch test, NODE TO SEGMENT, Q8 8 vs 11: fails (pressure spread "
              f"{dev:.3f} > 1 %)")
-    p, f1, f2, pp = patch_run(args, "Q8", 8, "Q8", 11, "TWO HALF PASS")
+    p, f1, f2, pp = patch_run(args, chk, "Q8", 8, "Q8", 11, "TWO HALF PASS")
     dev = float(np.max(np.abs(p - pp))) / pp
     print(f"  TWO HALF PASS, Q8 8 vs 11: max |p_q - p_pc|/p_pc = {dev:.4e}, "
           f"|F_1 + F_2|/(p W) = {abs(f1 + f2) / (pp * W):.2e}")
@@ -192,9 +212,66 @@ def hertz_benchmark(args, chk):
         print(f"  | {k} 8x8 | {m} | {f:.2f} | {t:.4f} | {el:.4f} | {o1:.3f} | {o2:.3f} |")
 
 
+def tie_wave_deck(right, n_right):
+    """Bar [0, 2 L] x [0, HB] (plane stress, nu = 0): left half Q8 (20 x 2, HRZ, moving at
+    V0 along x), right half at rest (Q8 or NURBS, n_right along x), glued at x = L by *TIE."""
+    out = [impact.header(f"wave across a tie, Q8 20 | {right} {n_right}", "PLANE STRESS", 0.0)]
+    c1, nxt, ne = impact.q8_bar("LB", 0.0, LB, HB, 20, ny=2)
+    out.append(c1)
+    if right == "Q8":
+        c2, _, _ = impact.q8_bar("RB", LB, LB, HB, n_right, first_node=nxt, first_element=ne,
+                                 ny=2)
+        m2 = "*MASS, TYPE=HRZ, ELSET=RB\n"
+    else:
+        c2, _ = impact.iga_block("RB", LB, 0.0, LB, HB, n_right, 2)
+        m2 = "*MASS, TYPE=ROW SUM, PATCH=RB\n"
+    t_end = 0.9 * LB / (E / RHO) ** 0.5
+    out += [c2, "*TIE, NAME=GLUE\nRB_LEFT, LB_RIGHT\n",
+            f"*INITIAL CONDITIONS, TYPE=VELOCITY\nLB, 1, {V0!r}\n",
+            "*MASS, TYPE=HRZ, ELSET=LB\n", m2, impact.step(t_end, field_every=40)]
+    return "".join(out)
+
+
+def tie_wave(args, chk):
+    """A bar of two halves glued by a tie, the left one moving at V0 into the right one at
+    rest: in 1D (nu = 0) the joint moves at V0/2 and the right half gains the momentum
+    rho c (V0/2) A t until the wave reaches its end (t = L/c). Checked at every snapshot
+    after the first tenth of that time (the right half: its own nodes, by id, those on the
+    tie included)."""
+    c = (E / RHO) ** 0.5
+    for right, n in (("Q8", 20), ("IGA", 27)):
+        path = os.path.join(args.work, f"tie_wave_{right}.inp")
+        with open(path, "w") as fd:
+            fd.write(tie_wave_deck(right, n))
+        out = path.replace(".inp", ".h5")
+        vcheck.run_ictus(args, path, out)
+        r = vcheck.Results(out)
+        ids = r.model("node_ids")
+        mass = r.model("mass")
+        if right == "Q8":
+            _, first_right, _ = impact.q8_bar("LB", 0.0, LB, HB, 20, ny=2)
+            rb = ids >= first_right
+        else:
+            rb = np.isin(ids, np.asarray(r.f["model/patches/rb/ids"]))
+        worst = 0.0
+        for step in r.field_steps():
+            t = r.field_time(step)
+            if t < 0.1 * LB / c:
+                continue
+            v = r.field(step, "velocity")[:, 0]
+            p = float(mass[rb] @ v[rb])
+            exact = RHO * c * 0.5 * V0 * HB * t
+            worst = max(worst, abs(p / exact - 1.0))
+        print(f"  wave across a tie, Q8 20 | {right} {n}: largest |P_right/P_exact - 1| = "
+              f"{worst:.4f}")
+        chk.below(worst, 0.03, f"wave across a tie, Q8 20 | {right} {n}: the right half's "
+                  "momentum against rho c (V0/2) A t")
+
+
 def main():
     args = vcheck.arguments()
     chk = vcheck.Checker("contact_mortar")
+    tie_wave(args, chk)
     patch_tests(args, chk)
     momentum(args, chk)
     hertz_benchmark(args, chk)

@@ -13,6 +13,10 @@
 !!   for a quadratic energy) under slave node motions and a rigid master motion.
 !! * The stability ratio equals l_s/m_s + l_m/m_m where l/m is uniform on each side.
 !! * Outside points: slave points behind the master but beyond its end are counted.
+!! * *TIE (doc/contact.md §4b) on coincident non-matching surfaces: a uniform relative
+!!   displacement d of the upper body gives the traction eps d at every slave node (tension
+!!   and shear alike) and its consistent loads on both surfaces; a rigid motion of both
+!!   bodies (translation and rotation) gives no force.
 program test_mortar
   use ictus_core_kinds, only: dp
   use ictus_test_check, only: checker_t
@@ -20,7 +24,7 @@ program test_mortar
   use ictus_geometry_sides, only: SIDE_ETA0, SIDE_ETA1
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_setup, contact_forces, contact_stability, contact_failures, &
-      PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_MORTAR
+      PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_MORTAR, PAIR_TIE
   implicit none
   type(checker_t) :: t
   real(dp), parameter :: eps = 1.0e5_dp, gap = 1.0e-3_dp, len = 2.0_dp
@@ -38,6 +42,8 @@ program test_mortar
   call energy_gradient(t, Q8, 'Q8 slave')
   call stability(t)
   call outside(t)
+  call tie(t, Q8, 8, NURBS, 11, 'tie Q8 8 vs NURBS 11')
+  call tie(t, NURBS, 10, Q8, 21, 'tie NURBS 10 vs Q8 21')
   call t%finish()
 
 contains
@@ -292,4 +298,53 @@ contains
           'outside: action = reaction')
     end associate
   end subroutine outside
+
+  !> A tie between the lower body's top (slave) and the upper body's bottom, both on y = 0.
+  subroutine tie(t, k1, n1, k2, n2, label)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: k1, n1, k2, n2
+    character(len=*), intent(in) :: label
+    real(dp), parameter :: d(2) = [3.0e-4_dp, -5.0e-4_dp], th = 0.2_dp
+    type(contact_t) :: c
+    real(dp) :: x(2, 600), x0(2, 600), fc(2, 600), energy, rot(2, 2)
+    integer :: nn, nlow, k
+    call two_bodies(c, k1, n1, k2, n2, PAIR_MORTAR, x, nn, nlow)
+    ! the upper body back onto y = 0: the surfaces coincide
+    x(2, nlow + 1:nn) = x(2, nlow + 1:nn) + gap
+    x0(:, 1:nn) = x(:, 1:nn)
+    c%pairs(1)%kind = PAIR_TIE
+    call contact_setup(c, x0(:, 1:nn))
+    call t%true(c%pairs(1)%mo%n > 0 .and. c%pairs(1)%mo%untied == 0, label//': all tied')
+    x(:, nlow + 1:nn) = x(:, nlow + 1:nn) + spread(d, 2, nn - nlow)
+    fc(:, 1:nn) = 0.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    associate (p => c%pairs(1), s1 => c%surfaces(1), s2 => c%surfaces(2))
+      do k = 1, s1%nsn
+        call t%close(fc(1, s1%nodes(k)), eps*d(1)*s1%ell(k), 1.0e-11_dp, &
+            label//': consistent x load on the slave')
+        call t%close(fc(2, s1%nodes(k)), eps*d(2)*s1%ell(k), 1.0e-11_dp, &
+            label//': consistent y load on the slave')
+      end do
+      do k = 1, s2%nsn
+        call t%close(fc(1, s2%nodes(k)), -eps*d(1)*s2%ell(k), 1.0e-11_dp, &
+            label//': consistent x load on the master')
+        call t%close(fc(2, s2%nodes(k)), -eps*d(2)*s2%ell(k), 1.0e-11_dp, &
+            label//': consistent y load on the master')
+      end do
+      call t%close(p%force_first(1), eps*d(1)*len, 1.0e-12_dp, label//': shear resultant')
+      call t%close(p%force_first(2), eps*d(2)*len, 1.0e-12_dp, label//': tension resultant')
+      call t%close_abs(norm2(p%force_first + p%force_second), 0.0_dp, 1.0e-13_dp*eps* &
+          norm2(d)*len, label//': action = reaction')
+      call t%close(energy, 0.5_dp*eps*dot_product(d, d)*len, 1.0e-12_dp, label//': energy')
+    end associate
+    ! both bodies moved rigidly: turned by th about (0.3, -0.2) and shifted
+    rot = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
+    do k = 1, nn
+      x(:, k) = matmul(rot, x0(:, k) - [0.3_dp, -0.2_dp]) + [0.3_dp, -0.2_dp] + d
+    end do
+    fc(:, 1:nn) = 0.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%close_abs(maxval(abs(fc(:, 1:nn))), 0.0_dp, 1.0e-9_dp*eps*norm2(d), &
+        label//': a rigid motion gives no force')
+  end subroutine tie
 end program test_mortar
