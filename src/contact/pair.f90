@@ -176,13 +176,14 @@ contains
     call pair_reset_results(pair)
   end subroutine pair_setup
 
-  !> Sizes the mortar points of a pair: p_s + p_m + 1 Gauss points on each piece, at most
-  !! nseg_s + 4 nseg_m + 4 pieces (each master segment end cuts at most two slave segments).
+  !> Sizes the mortar points of a pair: max(p_s, p_m) + 1 Gauss points on each piece, at
+  !! most nseg_s + 4 nseg_m + 4 pieces (each master segment end cuts at most two slave
+  !! segments).
   subroutine mortar_setup(mo, s1, s2)
     type(mortar_t), intent(inout) :: mo
     type(contact_surface_t), intent(in) :: s1, s2
     integer :: cap
-    cap = (s1%nen_max + s2%nen_max - 1)*(s1%nseg + 4*s2%nseg + 4)
+    cap = max(s1%nen_max, s2%nen_max)*(s1%nseg + 4*s2%nseg + 4)
     call mortar_resize(mo, cap)
     mo%n = 0
     if (allocated(mo%ell)) deallocate(mo%ell, mo%gap, mo%p, mo%slip, mo%t)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""MORTAR contact (doc/contact.md §5a) on non-matching meshes and on the dynamic Hertz problem.
+"""MORTAR contact (doc/contact.md §4) on non-matching meshes and on the dynamic Hertz problem.
 
 1. Contact patch test on non-matching meshes (doc/reference.md §4; the set-up of
    verification/contact_patch): lower block [0, W] x [0, H1] (first surface: its top, the

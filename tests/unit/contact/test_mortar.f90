@@ -1,4 +1,4 @@
-!> MORTAR contact (doc/contact.md §5a) through the public API, against exact answers.
+!> MORTAR contact (doc/contact.md §4) through the public API, against exact answers.
 !!
 !! * Contact patch test on non-matching meshes (ratios 8:11 = 1:1.375 and 10:21 = 1:2.1; Q8
 !!   against Q8, NURBS against NURBS, Q8 against NURBS): a uniform penetration g of a flat
