@@ -30,7 +30,7 @@ module ictus_contact_mortar
   use ictus_contact_pair, only: contact_pair_t, mortar_t, pair_reset_results, update_grid, &
       closest_point, coulomb, point_increment, PAIR_TIE
   use ictus_contact_projection, only: projection_t, project_on_curve, PROJ_INTERIOR, &
-      PROJ_CORNER, PROJ_OUTSIDE, SEG_INTERIOR
+      PROJ_CORNER, PROJ_OUTSIDE, SEG_INTERIOR, PROJ_NONE
   use ictus_contact_search, only: grid_query
   implicit none
   private
@@ -222,7 +222,7 @@ contains
     real(dp) :: r(MAX_SEG_NODES), rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
     real(dp) :: tau(2), dg, tt, dw, et, gn, phi(MAX_SEG_NODES)
     integer :: i, s, a, la
-    logical :: fric
+    logical :: fric, seen(s1%nsn)
     call pair_reset_results(pair)
     call mortar_points(pair, s1, s2, x)
     fric = pair%fr%on
@@ -230,6 +230,7 @@ contains
       mo%ell = 0.0_dp
       mo%gap = 0.0_dp
       mo%slip = 0.0_dp
+      seen = .false.
       ! nodal weights, weighted gaps and (friction) weighted slips
       do i = 1, mo%n
         s = mo%sseg(i)
@@ -238,6 +239,7 @@ contains
         do a = 1, s1%nen(s)
           la = s1%lnode(a, s)
           mo%ell(la) = mo%ell(la) + phi(a)*mo%wj(i)
+          if (mo%status(i) /= PROJ_NONE) seen(la) = .true.
         end do
         if (.not. projected(mo, i)) cycle
         do a = 1, s1%nen(s)
@@ -275,6 +277,7 @@ contains
         end if
         pair%x(:, la) = x(:, s1%nodes(la))
         pair%pressure(la) = mo%p(la)
+        call track_node(pair, la, seen(la), gn, x(:, s1%nodes(la)), s1%nodes(la))
         if (gn <= 0.0_dp) cycle
         pair%energy = pair%energy + 0.5_dp*mo%p(la)*gn*mo%ell(la)
         pair%max_pressure = max(pair%max_pressure, mo%p(la))
@@ -286,6 +289,27 @@ contains
     pair%failures_total = pair%failures_total + pair%failures
     pair%outside_total = pair%outside_total + pair%outside_points
   end subroutine mortar_forces
+
+  !> The lost-point state of slave node la (pair%inside, ictus_contact_pair's `track`): a
+  !! node none of whose mortar points has a candidate master segment (seen false) and that
+  !! was in contact is lost, counted as an outside point (the first one's coordinates xa and
+  !! node g kept); otherwise it is inside while its weighted gap penetrates (gn > 0).
+  pure subroutine track_node(pair, la, seen, gn, xa, g)
+    type(contact_pair_t), intent(inout) :: pair
+    integer, intent(in) :: la, g
+    logical, intent(in) :: seen
+    real(dp), intent(in) :: gn, xa(2)
+    if (seen) then
+      pair%inside(la) = merge(1, 0, gn > 0.0_dp)
+    else if (pair%inside(la) == 1) then
+      pair%outside_points = pair%outside_points + 1
+      if (pair%outside_points == 1) then
+        pair%outside_x = xa
+        pair%outside_surf = 1
+        pair%outside_node = g
+      end if
+    end if
+  end subroutine track_node
 
   !> The nodal forces of the pressures and tractions of pair%mo on both surfaces, from the
   !! same point values: lambda n + theta tau times w J, with lambda = sum_A phi_A p_A and

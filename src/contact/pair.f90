@@ -19,13 +19,13 @@ module ictus_contact_pair
       segment_shape, segment_curve_t, surface_curves
   use ictus_contact_search, only: search_grid_t, grid_init, grid_build, grid_query
   use ictus_contact_projection, only: projection_t, project_point, PROJ_INTERIOR, &
-      PROJ_CORNER, PROJ_OUTSIDE
+      PROJ_CORNER, PROJ_OUTSIDE, PROJ_NONE
   implicit none
   private
   public :: contact_pair_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, &
       pair_setup, pair_reset_results, update_grid, closest_point, half_pass, &
       two_half_pass_forces, node_to_segment_forces, friction_t, coulomb, pair_commit, &
-      PAIR_MORTAR, PAIR_TIE, mortar_t, point_increment, mortar_resize
+      PAIR_MORTAR, PAIR_TIE, mortar_t, point_increment, mortar_resize, track
 
   !> Pair kinds.
   integer, parameter :: PAIR_TWO_HALF_PASS = 1, PAIR_NODE_TO_SEGMENT = 2, PAIR_WALL = 3, &
@@ -116,6 +116,13 @@ module ictus_contact_pair
     integer :: npoints = 0
     real(dp), allocatable :: x(:,:)
     real(dp), allocatable :: pressure(:)
+    !> Lost points: 1 for each contact point (TWO HALF PASS: the Gauss points of the first
+    !! surface, then of the second; NODE TO SEGMENT and MORTAR: the slave nodes) that
+    !! penetrated at its last evaluation with a closest point, 0 once it is found open. A
+    !! point marked 1 that has no candidate segment at all (it left the search radius while
+    !! inside the other body: tunnelling) is counted as an outside point. Kept in
+    !! checkpoints.
+    integer, allocatable :: inside(:)
     !> Search grids with the first / the second surface as master, candidate work array.
     type(search_grid_t) :: grid_first, grid_second
     !> The segments of the first / the second surface as curves on the coordinates of the
@@ -165,6 +172,15 @@ contains
       allocate(pair%curves_first(0), pair%curves_second(0))
     end if
     allocate(pair%cand(max(ncand, 1)))
+    if (allocated(pair%inside)) deallocate(pair%inside)
+    select case (pair%kind)
+    case (PAIR_TWO_HALF_PASS)
+      allocate(pair%inside(s1%ngp + s2%ngp), source=0)
+    case (PAIR_NODE_TO_SEGMENT, PAIR_MORTAR)
+      allocate(pair%inside(s1%nsn), source=0)
+    case default
+      allocate(pair%inside(0))
+    end select
     if (pair%kind == PAIR_MORTAR .or. pair%kind == PAIR_TIE) call mortar_setup(pair%mo, s1, s2)
     if (pair%fr%on) then
       pair%fr%npts = pair%npoints
@@ -245,6 +261,26 @@ contains
     end do
   end function point_increment
 
+  !> The lost-point state of one contact point after its projection pr (penetration gp):
+  !! with no candidate segment at all (PROJ_NONE) a point that was inside stays inside and
+  !! is lost; with a closest point it is inside while it penetrates; a failed projection
+  !! leaves the state.
+  pure subroutine track(inside, pr, gp, lost)
+    integer, intent(inout) :: inside
+    type(projection_t), intent(in) :: pr
+    real(dp), intent(in) :: gp
+    logical, intent(out) :: lost
+    lost = .false.
+    select case (pr%status)
+    case (PROJ_NONE)
+      lost = inside == 1
+    case (PROJ_INTERIOR, PROJ_CORNER)
+      inside = merge(1, 0, gp > 0.0_dp)
+    case (PROJ_OUTSIDE)
+      inside = 0
+    end select
+  end subroutine track
+
   !> Zeroes the per-call results of a pair.
   pure subroutine pair_reset_results(pair)
     type(contact_pair_t), intent(inout) :: pair
@@ -315,7 +351,8 @@ contains
   !! accumulated; @param out_x, out_g: the first one's coordinates and nearest slave node,
   !! set when nout goes from 0 to 1
   pure subroutine half_pass(slave, master, grid, curves, x, eps, cand, fc, force, energy, &
-      pmax, gmax, nact, nfail, xout, pout, eps_m, dm, fr, off, xprev, nout, out_x, out_g)
+      pmax, gmax, nact, nfail, xout, pout, eps_m, dm, fr, off, xprev, nout, out_x, out_g, &
+      inside)
     type(contact_surface_t), intent(in) :: slave, master
     type(search_grid_t), intent(in) :: grid
     type(segment_curve_t), intent(in) :: curves(:)
@@ -331,8 +368,10 @@ contains
     real(dp), intent(in), optional :: xprev(:,:)
     integer, intent(inout), optional :: nout, out_g
     real(dp), intent(inout), optional :: out_x(2)
+    integer, intent(inout), optional :: inside(:)
     type(projection_t) :: pr
     real(dp) :: xq(2), gp, tr(2), wj, sm, tau(2), dg, tt, dw, et
+    logical :: lost
     real(dp) :: rm(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES)
     integer :: q, s, a, g, nf
     logical :: fric
@@ -351,7 +390,9 @@ contains
       if (present(xout)) xout(:, q) = xq
       if (present(pout)) pout(q) = eps*gp
       if (fric) fr%t_new(off + q) = 0.0_dp
-      if (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp .and. present(nout)) then
+      lost = .false.
+      if (present(inside)) call track(inside(q), pr, gp, lost)
+      if ((lost .or. (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp)) .and. present(nout)) then
         nout = nout + 1
         if (nout == 1 .and. present(out_x) .and. present(out_g)) then
           out_x = xq
@@ -425,39 +466,47 @@ contains
         call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
             pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm, &
-            pair%fr, 0, xprev, nout=n1, out_x=pair%outside_x, out_g=g1)
+            pair%fr, 0, xprev, nout=n1, out_x=pair%outside_x, out_g=g1, &
+            inside=pair%inside(1:s1%ngp))
         call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
             pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm, fr=pair%fr, &
-            off=s1%ngp, xprev=xprev, nout=n2, out_x=x2, out_g=g2)
+            off=s1%ngp, xprev=xprev, nout=n2, out_x=x2, out_g=g2, &
+            inside=pair%inside(s1%ngp + 1:))
       else
         call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
             pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, pair%x, pair%pressure, fr=pair%fr, off=0, &
-            xprev=xprev, nout=n1, out_x=pair%outside_x, out_g=g1)
+            xprev=xprev, nout=n1, out_x=pair%outside_x, out_g=g1, &
+            inside=pair%inside(1:s1%ngp))
         call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
             pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
             pair%active_points, pair%failures, fr=pair%fr, off=s1%ngp, xprev=xprev, &
-            nout=n2, out_x=x2, out_g=g2)
+            nout=n2, out_x=x2, out_g=g2, &
+            inside=pair%inside(s1%ngp + 1:))
       end if
       pair%fr%dwork = 0.5_dp*pair%fr%dwork
     else if (present(dm) .and. pair%eps_m > 0.0_dp) then
       call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
           pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, pair%x, pair%pressure, pair%eps_m, dm, &
-          nout=n1, out_x=pair%outside_x, out_g=g1)
+          nout=n1, out_x=pair%outside_x, out_g=g1, &
+          inside=pair%inside(1:s1%ngp))
       call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
           pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, eps_m=pair%eps_m, dm=dm, nout=n2, out_x=x2, &
-          out_g=g2)
+          out_g=g2, &
+          inside=pair%inside(s1%ngp + 1:))
     else
       call half_pass(s1, s2, pair%grid_second, pair%curves_second, x, pair%penalty, &
           pair%cand, fc, pair%force_first, e1, pair%max_pressure, pair%max_penetration, &
           pair%active_points, pair%failures, pair%x, pair%pressure, nout=n1, &
-          out_x=pair%outside_x, out_g=g1)
+          out_x=pair%outside_x, out_g=g1, &
+          inside=pair%inside(1:s1%ngp))
       call half_pass(s2, s1, pair%grid_first, pair%curves_first, x, pair%penalty, &
           pair%cand, fc, pair%force_second, e2, pair%max_pressure, pair%max_penetration, &
-          pair%active_points, pair%failures, nout=n2, out_x=x2, out_g=g2)
+          pair%active_points, pair%failures, nout=n2, out_x=x2, out_g=g2, &
+          inside=pair%inside(s1%ngp + 1:))
     end if
     call note_outside(pair, n1, n2, g1, g2, x2)
     pair%energy = 0.5_dp*(e1 + e2)
@@ -481,6 +530,7 @@ contains
     real(dp) :: xs(2), gp, fs(2), r(MAX_SEG_NODES), dr(MAX_SEG_NODES), ddr(MAX_SEG_NODES), sm
     real(dp) :: tau(2), dg, tt, dw, et
     integer :: k, g, a, nf
+    logical :: lost
     call pair_reset_results(pair)
     call update_grid(s2, x, pair%radius, pair%grid_second, pair%curves_second)
     do k = 1, s1%nsn
@@ -493,7 +543,8 @@ contains
       pair%x(:, k) = xs
       pair%pressure(k) = pair%penalty*gp
       if (pair%fr%on) pair%fr%t_new(k) = 0.0_dp
-      if (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp) then
+      call track(pair%inside(k), pr, gp, lost)
+      if (lost .or. (pr%status == PROJ_OUTSIDE .and. pr%d < 0.0_dp)) then
         pair%outside_points = pair%outside_points + 1
         if (pair%outside_points == 1) then
           pair%outside_x = xs

@@ -98,6 +98,7 @@ contains
           call h5u_write(g, 'pressure', p%pressure(1:p%npoints))
         end if
         if (p%fr%on) call write_friction(g, p)
+        if (size(p%inside) > 0) call h5u_write(g, 'inside', p%inside)
         call h5u_close_group(g)
       end associate
     end do
@@ -194,6 +195,7 @@ contains
           call h5u_read(g, 'pressure', p%pressure(1:p%npoints))
         end if
         if (p%fr%on) call read_friction(g, p)
+        if (size(p%inside) > 0) call h5u_read(g, 'inside', p%inside)
         call h5u_close_group(g)
       end associate
     end do

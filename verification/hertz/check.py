@@ -180,7 +180,8 @@ def check_cut_surfaces(args, chk):
     path, p = variant(args, "q8_hrz_cut", "\n".join(out) + "\n")
     chk.true(p.returncode == 0, f"cut surfaces: the run completes (exit {p.returncode})")
     warns = re.findall(r"warning: contact: pair hertz: (\d+) contact point\(s\) penetrate the "
-                       r"other surface but project beyond its end \(no force applied\) at t = "
+                       r"other surface but project beyond its end, or left the search radius "
+                       r"while penetrating \(no force applied\) at t = "
                        r"([-+0-9.eE]+); the first at \(([-+0-9.eE]+), ([-+0-9.eE]+)\)", p.stdout)
     chk.true(len(warns) == 1, f"cut surfaces: one warning naming time, point and pair "
              f"({len(warns)})")

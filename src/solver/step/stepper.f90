@@ -239,8 +239,8 @@ contains
         ! the first step of the run with outside points: name the time, point and pair
         if (p%outside_points > 0 .and. p%outside_total == p%outside_points) call warning( &
             'contact', 'pair '//trim(p%name)//': '//str(p%outside_points)//' contact '// &
-            'point(s) penetrate the other surface but project beyond its end (no force '// &
-            'applied) at t = '//str(stp%s%t + stp%s%dt)//'; the first at ('// &
+            'point(s) penetrate the other surface but project beyond its end, or left '// &
+            'the search radius while penetrating (no force applied) at t = '//str(stp%s%t + stp%s%dt)//'; the first at ('// &
             str(p%outside_x(1))//', '//str(p%outside_x(2))//') on surface '// &
             trim(outside_surface(stp%contact, kp))//' near node '// &
             str(outside_node_id(stp%contact, kp))//'; extend the surfaces to cover the '// &

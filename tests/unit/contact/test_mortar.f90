@@ -13,6 +13,9 @@
 !!   for a quadratic energy) under slave node motions and a rigid master motion.
 !! * The stability ratio equals l_s/m_s + l_m/m_m where l/m is uniform on each side.
 !! * Outside points: slave points behind the master but beyond its end are counted.
+!! * Lost points (doc/contact.md §3): points in contact that then lie beyond the search radius
+!!   inside the other body (tunnelling) are counted as outside points, for every algorithm;
+!!   once found open they are not.
 !! * *TIE (doc/contact.md §4b) on coincident non-matching surfaces: a uniform relative
 !!   displacement d of the upper body gives the traction eps d at every slave node (tension
 !!   and shear alike) and its consistent loads on both surfaces; a rigid motion of both
@@ -42,6 +45,9 @@ program test_mortar
   call energy_gradient(t, Q8, 'Q8 slave')
   call stability(t)
   call outside(t)
+  call tunnelling(t, PAIR_MORTAR, 'lost, MORTAR')
+  call tunnelling(t, PAIR_TWO_HALF_PASS, 'lost, TWO HALF PASS')
+  call tunnelling(t, PAIR_NODE_TO_SEGMENT, 'lost, NODE TO SEGMENT')
   call tie(t, Q8, 8, NURBS, 11, 'tie Q8 8 vs NURBS 11')
   call tie(t, NURBS, 10, Q8, 21, 'tie NURBS 10 vs Q8 21')
   call t%finish()
@@ -298,6 +304,37 @@ contains
           'outside: action = reaction')
     end associate
   end subroutine outside
+
+  !> Tunnelling: Q8 8 under Q8 11, penetrating by gap (all points in contact); the upper body
+  !! then moved down by 1 (twice the segment length beyond the search radius: no point has a
+  !! candidate), then back above the lower one (open).
+  subroutine tunnelling(t, kind, label)
+    type(checker_t), intent(inout) :: t
+    integer, intent(in) :: kind
+    character(len=*), intent(in) :: label
+    type(contact_t) :: c
+    real(dp) :: x(2, 600), fc(2, 600), energy
+    integer :: nn, nlow
+    call two_bodies(c, Q8, 8, Q8, 11, kind, x, nn, nlow)
+    fc(:, 1:nn) = 0.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%equal_int(c%pairs(1)%outside_points, 0, label//': in contact, none lost')
+    call t%true(c%pairs(1)%active_points > 0, label//': in contact')
+    x(2, nlow + 1:nn) = x(2, nlow + 1:nn) - 1.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%true(c%pairs(1)%outside_points > 0, label//': deep inside, counted')
+    call t%equal_int(c%pairs(1)%active_points, 0, label//': deep inside, no force')
+    call t%equal_int(c%pairs(1)%outside_surf, 1, label//': the first on the first surface')
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%equal_int(c%pairs(1)%outside_points, size(c%pairs(1)%inside), &
+        label//': still counted, every point')
+    x(2, nlow + 1:nn) = x(2, nlow + 1:nn) + 1.0_dp + 2.0_dp*gap
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%equal_int(c%pairs(1)%outside_points, 0, label//': open again, none')
+    x(2, nlow + 1:nn) = x(2, nlow + 1:nn) - 3.0_dp
+    call contact_forces(c, nn, x(:, 1:nn), fc(:, 1:nn), energy)
+    call t%equal_int(c%pairs(1)%outside_points, 0, label//': far away from open: none')
+  end subroutine tunnelling
 
   !> A tie between the lower body's top (slave) and the upper body's bottom, both on y = 0.
   subroutine tie(t, k1, n1, k2, n2, label)
