@@ -5,7 +5,7 @@ A block 1 x 0.5 (plane strain, 8 x 4 Q4, E = 1e4, nu = 0.3, rho = 1, mass m = 0.
 thickness), pressed by a pressure P = 1 on its top face (N = 1), slides at v0 = 0.6 with
 Coulomb mu = 0.3 on
 - a rigid wall (*RIGID WALL, INTERACTION=),
-- a fixed elastic block (*CONTACT PAIR, NODE TO SEGMENT and TWO HALF PASS).
+- a fixed elastic block (*CONTACT PAIR, NODE TO SEGMENT, TWO HALF PASS and MORTAR).
 A rigid block decelerates at a = mu N/m = 0.6: it stops at t_s = v0/a = 1.0 after sliding
 v0^2/(2a) = 0.3. The pressure acts in full from t = 0 (no ramp): the block's vertical momentum
 stays bounded, so the time integral of the contact's normal force is t up to it, and so is
@@ -15,7 +15,10 @@ well under 3 % (the tolerance of the acceptance test). Checked:
 - during the sliding the history's friction_force is mu times the normal force, and the
   impulse of friction_force from 0 to t_s is m v0 (the block's momentum), within 3 %;
 - the energy balance with the frictional work: total = kinetic + strain + contact +
-  frictional_work - external_work stays within 0.5 % of the initial kinetic energy, and the
+  frictional_work - external_work stays within 0.5 % of the initial kinetic energy (rigid
+  wall: 0.35 %; block on block with MORTAR: 0.44 %; NODE TO SEGMENT 0.64 % and TWO HALF PASS
+  0.58 % are gated at 1 %: the rest is what the predictor-corrector penalty dissipates in its
+  damped normal and stick modes, doc/contact.md §6, which no energy term records), and the
   frictional work ends at the kinetic energy m v0^2/2 lost (within 1 %);
 - stick: a block at rest with mu = 2 under a shear load 0.2 on its top (static friction
   holds it, mu N = 2): its slip stays within the penalty creep F/(eps_T L) (twice it, for the
@@ -163,13 +166,14 @@ def main():
     vcheck.run_ictus(args, path, out)
     res = vcheck.Results(out)
     check_sliding(chk, res, "floor", "rigid wall", 0.005)
-    for alg, tag in (("NODE TO SEGMENT", "nts"), ("TWO HALF PASS", "thp")):
+    for alg, tag, tol in (("NODE TO SEGMENT", "nts", 0.01), ("TWO HALF PASS", "thp", 0.01),
+                          ("MORTAR", "mortar", 0.005)):
         p = os.path.join(args.work, f"pair_{tag}.inp")
         with open(p, "w") as f:
             f.write(pair_deck(alg))
         o = os.path.join(args.work, f"pair_{tag}.h5")
         vcheck.run_ictus(args, p, o)
-        check_sliding(chk, vcheck.Results(o), "slide", alg, 0.01)
+        check_sliding(chk, vcheck.Results(o), "slide", alg, tol)
     stick(args, chk)
     vcheck.check_ranks_and_restart(args, chk, path, out)
     chk.true(vcheck.processed_deck_reruns(args, out), "the processed deck reruns bit for bit")
