@@ -32,11 +32,12 @@ hex8, 3 x 3 x 3 otherwise) before writing.
 Element node order (Abaqus): corners 1-4 at zeta = -1, counter-clockwise seen from +zeta
 (xi from 1 to 2, eta from 1 to 4), 5-8 above them at zeta = +1; hex20 and hex27 add the edge
 midsides 9 (1-2), 10 (2-3), 11 (3-4), 12 (4-1), 13 (5-6), 14 (6-7), 15 (7-8), 16 (8-5),
-17 (1-5), 18 (2-6), 19 (3-7), 20 (4-8); hex27 adds the face centres 21-26 in the face order
-S1..S6 below and the centre 27. Faces: S1 1-2-3-4, S2 5-8-7-6, S3 1-5-6-2, S4 2-6-7-3,
-S5 3-7-8-4, S6 4-8-5-1. The spherical faces are the S2 faces of the outer layer (S1 in the
-lower body of --partner body, mirrored). Each element is one data line (id and 8, 20 or 27
-node ids), as the 2D reader and gmsh have it (Abaqus itself breaks lines after 16 entries).
+17 (1-5), 18 (2-6), 19 (3-7), 20 (4-8); hex27 adds the centre 21 and the face centres 22-27
+in the face order S1..S6 below (the order gmsh's Abaqus export writes for C3D27). Faces:
+S1 1-2-3-4, S2 5-8-7-6, S3 1-5-6-2, S4 2-6-7-3, S5 3-7-8-4, S6 4-8-5-1. The spherical faces
+are the S2 faces of the outer layer (S1 in the lower body of --partner body, mirrored). An
+element's data line holds at most 16 entries and ends with a comma where the element goes on
+to the next line (C3D20, C3D27), as Abaqus and gmsh write them.
 
 NURBS (--kind nurbs): ONE patch, exact geometry, quadratic in all three directions (the
 lowest degree that is exact with these circles; direction 3 is linear, written as degree 2),
@@ -118,8 +119,8 @@ def natural(kind):
     if kind == "hex8":
         return c
     pts = [c, np.array([(c[a - 1] + c[b - 1]) / 2 for a, b in EDGES])]
-    if kind == "hex27":
-        pts += [np.array([c[[k - 1 for k in f]].mean(axis=0) for f in FACES]), np.zeros((1, 3))]
+    if kind == "hex27":   # the centre (21), then the face centres of S1..S6 (22-27)
+        pts += [np.zeros((1, 3)), np.array([c[[k - 1 for k in f]].mean(axis=0) for f in FACES])]
     return np.vstack(pts)
 
 
@@ -278,6 +279,11 @@ def nurbs_cards(a, name, centre, lower):
     return "".join(out)
 
 
+def element_line(ids):
+    """An element's data: at most 16 entries a line, a comma at the end of a continued line."""
+    return ",\n".join(", ".join(map(str, ids[k:k + 16])) for k in range(0, len(ids), 16)) + "\n"
+
+
 def hex_cards(a, name, centre, mesh, node0, elem0):
     """Body cards of one hexahedral body; node and element ids start after node0, elem0."""
     xyz, conn, sph, x0, y0 = mesh
@@ -285,8 +291,7 @@ def hex_cards(a, name, centre, mesh, node0, elem0):
     out = ["*NODE\n"]
     out += [f"{node0 + n + 1}, {x:.17g}, {y:.17g}, {z:.17g}\n" for n, (x, y, z) in enumerate(xyz)]
     out.append(f"*ELEMENT, TYPE={ABAQUS[a.kind]}, ELSET={name}, MATERIAL={a.material}\n")
-    out += [f"{elem0 + e + 1}, " + ", ".join(str(node0 + k + 1) for k in c) + "\n"
-            for e, c in enumerate(conn)]
+    out += [element_line([elem0 + e + 1] + [node0 + k + 1 for k in c]) for e, c in enumerate(conn)]
     for key, nodes in (("X0", x0), ("Y0", y0)):
         out.append(f"*NSET, NSET={name}_{key}\n" + halfdisc._lines(node0 + nodes + 1))
     out.append(f"*SURFACE, NAME={name}_SPH, TYPE=ELEMENT\n")

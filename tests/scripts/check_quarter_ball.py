@@ -14,7 +14,8 @@ script) and checks, with numpy and its own element and NURBS code:
     centre), which collapse to that line and point; the normal x_xi x x_eta of ZETA1 points
     away from c.
   * hexahedra (C3D8, C3D20, C3D27: shape functions from the Abaqus node order by a
-    Vandermonde matrix of the element's monomials, not the script's formulas): det J > 0 at
+    Vandermonde matrix of the element's monomials, not the script's formulas; element data
+    lines of at most 16 entries, continued after a line's last comma): det J > 0 at
     the element's Gauss points and at its nodes; volume (Gauss, exact for these maps) ->
     pi R^3 / 3 at rate 2 (hex8: 1.9 to 2.1 from n = 2, 4, 8) and 4 (hex20, hex27: >= 3.8);
     every node of every face of NAME_SPH at radius R (1e-14 R); NAME_X0 and NAME_Y0 are
@@ -24,6 +25,9 @@ script) and checks, with numpy and its own element and NURBS code:
     S1..S6, which runs clockwise seen from outside) points away from c on the sphere and
     along -e_x, -e_y on the planes; the contact point is a node of NAME_SPH. Also graded, and
     mirrored (--partner body, whose faces are S1).
+  * the node order is gmsh's: a cube meshed by gmsh in C3D20 and in C3D27 and written in
+    its Abaqus form has every node where this order puts it (C3D27: centre 21, face centres
+    of S1..S6 22-27); skipped without gmsh's Python module;
   * the default deck's cards: *ANALYSIS, TYPE=3D, C3D20, the rigid wall at the contact point
     (0, 0, 0) with NORMAL=0,0,1 against BALL_SPH, u_x = 0 on BALL_X0, u_y = 0 on BALL_Y0,
     v_z = -0.1 (doc/reference.md §3.8);
@@ -36,6 +40,7 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -108,10 +113,14 @@ def model(text):
             for ln in data:
                 v = ln.split(",")
                 m["nodes"][int(v[0])] = np.array([float(x) for x in v[1:]])
-        elif head == "ELEMENT":
-            rows = [[int(x) for x in ln.split(",")] for ln in data]
+        elif head == "ELEMENT" and par["TYPE"] in NEN:   # goes on after a line's last comma
+            size = NEN[par["TYPE"]] + 1
+            vals = [int(x) for x in fields(data)]
+            rows = [vals[k:k + size] for k in range(0, len(vals), size)]
+            ends = [ln.rstrip().endswith(",") for ln in data]
+            lines_ok = ends == ([True, False] * len(rows) if size > 16 else [False] * len(rows))
             m["elements"][par["ELSET"]] = (par["TYPE"], [r[0] for r in rows],
-                                          [r[1:] for r in rows])
+                                          [r[1:] for r in rows], lines_ok)
         elif head == "NSET":
             m["nsets"][par["NSET"]] = (("SIDE", par["PATCH"], par["SIDE"]) if "SIDE" in par
                                        else fields(data))
@@ -155,11 +164,12 @@ def deck_text(args):
 # ---------------------------------------------------------------------------------------------
 # hexahedra
 def node_xi(nen):
-    """Natural coordinates of the nen nodes in Abaqus order."""
+    """Natural coordinates of the nen nodes in Abaqus order (C3D27: the centre is node 21,
+    the face centres of S1..S6 are 22-27, as gmsh's Abaqus export has them)."""
     edges = np.array([(CORNER_XI[a - 1] + CORNER_XI[b - 1]) / 2
                       for a, b in zip(EDGE_CORNERS[0::2], EDGE_CORNERS[1::2])])
     faces = np.array([CORNER_XI[[k - 1 for k in c]].mean(axis=0) for c in FACE_CORNERS.values()])
-    return np.vstack([CORNER_XI, edges, faces, np.zeros((1, 3))])[:nen]
+    return np.vstack([CORNER_XI, edges, np.zeros((1, 3)), faces])[:nen]
 
 
 def monomials(nen):
@@ -215,8 +225,9 @@ def face_nodes(nen):
 
 def check_hex_body(t, m, name, c, radius, label):
     """Geometry checks of one hexahedral body; returns its volume."""
-    etype, ids, conn = m["elements"][name]
+    etype, ids, conn, lines_ok = m["elements"][name]
     nen = NEN[etype]
+    t(lines_ok, f"{label}: element data lines of at most 16 entries, continued after a comma")
     nid = np.array(sorted(m["nodes"]))
     pos = {n: k for k, n in enumerate(nid)}
     x = np.array([m["nodes"][n] for n in nid])
@@ -454,6 +465,40 @@ def check_cards(t):
       "default deck: u_x = 0 on BALL_X0, u_y = 0 on BALL_Y0, v_z = -0.1 on BALL")
 
 
+def check_gmsh_order(t):
+    """The node order agrees with gmsh's Abaqus export (a cube meshed with C3D20 and with C3D27
+    elements): each exported node of every element sits where the trilinear map of the
+    element's corners puts the natural coordinates node_xi gives it. Skipped without gmsh's
+    Python module."""
+    try:
+        import gmsh
+    except ImportError:
+        print("  skip gmsh's C3D20 and C3D27 node order (no gmsh Python module)")
+        return
+    for incomplete, etype in ((1, "C3D20"), (0, "C3D27")):
+        path = os.path.join(tempfile.mkdtemp(), "cube.inp")
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.mesh.setTransfiniteAutomatic()
+        gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        gmsh.option.setNumber("Mesh.SecondOrderIncomplete", incomplete)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+        gmsh.write(path)
+        gmsh.finalize()
+        with open(path) as f:
+            m = model(f.read())
+        _, _, conn, lines_ok = next(v for v in m["elements"].values() if v[0] == etype)
+        x = np.array([[m["nodes"][n] for n in row] for row in conn])
+        xi = node_xi(NEN[etype])
+        trilinear = np.prod(1.0 + xi[:, None, :] * CORNER_XI[None, :, :], axis=2) / 8.0
+        err = np.abs(np.einsum("nc,eci->eni", trilinear, x[:, :8]) - x).max()
+        t(lines_ok and err < 1e-12, f"gmsh's Abaqus export of a cube in {len(conn)} {etype}: "
+          "every node where this order puts it", f"max distance {err:.3g}")
+
+
 def check_cli(t):
     args = ["--kind", "hex27", "--n", "2", "--partner", "body"]
     p = subprocess.run([sys.executable, SCRIPT] + args, stdout=subprocess.PIPE,
@@ -478,6 +523,7 @@ def main():
     check_nurbs(t)
     check_hex(t)
     check_cards(t)
+    check_gmsh_order(t)
     check_cli(t)
     sys.exit(t.close())
 
