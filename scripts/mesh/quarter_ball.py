@@ -59,8 +59,8 @@ Coincident control points are separate control points in the deck (*PATCH, MERGE
 side of zero length); a reader must tie them (or accept the stiff, small elements at the line
 and the point, which lower the stable time step). --subdivide K writes *REFINE, SUBDIVIDE=K,K,M
 (K spans per 90 degrees in both angular directions, M = --m radially, M = 0 takes K); --elevate
-Q > 2 writes *ELEVATE first. The other exact option, several non-degenerate patches (a cubed
-sphere), needs degree 4 for an exact sphere; it is not written.
+Q > 2 writes *ELEVATE first. Without collapsed sides an exact quarter-ball would take several
+patches (an exact cubed sphere, as Cobb's, is of degree 4); that is not written.
 
 Names (NAME = --name, default BALL): the ELSET (hex) or patch (nurbs) NAME, also the node set
 of the whole body; *NSET NAME_X0, the nodes or control points on the plane x = cx (nurbs: the
