@@ -251,11 +251,7 @@ def deck(a, command):
     if a.wall is not None:
         out.append(f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL=0,1, PENALTY={a.wall:g}\n"
                    f"{a.name}_ARC\n")
-    out.append(f"*MASS, TYPE={a.mass}\n")
-    out.append(f"*STEP\n*DYNAMIC, EXPLICIT\n{a.dt!r}, {a.t_end!r}\n*OUTPUT, HISTORY, EVERY=1\n")
-    if a.field_every > 0:
-        out.append(f"*OUTPUT, FIELD, EVERY={a.field_every}\n")
-    out.append("*END STEP\n")
+    out.append(halfdisc.mass_and_step(a))
     return "".join(out)
 
 
@@ -320,13 +316,7 @@ def options(**kw):
 
 
 def main():
-    a = parser().parse_args()
-    check_options(a)
-    if a.body_only:
-        sys.stdout.write(body_cards(a))
-        return
-    args = " ".join(f"'{s}'" if " " in s else s for s in sys.argv[1:])
-    sys.stdout.write(deck(a, "scripts/mesh/disc.py " + args))
+    halfdisc.run(parser(), check_options, body_cards, deck, "disc.py")
 
 
 if __name__ == "__main__":

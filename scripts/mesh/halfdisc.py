@@ -200,12 +200,16 @@ def deck(a, command):
         ny = 1.0 if a.centre == "upper" else -1.0
         out.append(f"*RIGID WALL, NAME=WALL, POINT=0,0, NORMAL=0,{ny:g}, PENALTY={a.wall:g}\n"
                    f"{a.name}_ARC\n")
-    out.append(f"*MASS, TYPE={a.mass}\n")
-    out.append(f"*STEP\n*DYNAMIC, EXPLICIT\n{a.dt!r}, {a.t_end!r}\n*OUTPUT, HISTORY, EVERY=1\n")
-    if a.field_every > 0:
-        out.append(f"*OUTPUT, FIELD, EVERY={a.field_every}\n")
-    out.append("*END STEP\n")
+    out.append(mass_and_step(a))
     return "".join(out)
+
+
+def mass_and_step(a):
+    """*MASS, TYPE=--mass and the explicit step (--dt, --t-end; history every step, fields every
+    --field-every steps if > 0)."""
+    field = f"*OUTPUT, FIELD, EVERY={a.field_every}\n" if a.field_every > 0 else ""
+    return (f"*MASS, TYPE={a.mass}\n*STEP\n*DYNAMIC, EXPLICIT\n{a.dt!r}, {a.t_end!r}\n"
+            f"*OUTPUT, HISTORY, EVERY=1\n{field}*END STEP\n")
 
 
 def parser():
@@ -272,17 +276,29 @@ def check_options(a):
     # the body name also names the sets NAME_SYM and NAME_ARC: 4 characters more
     check(NAME.match(a.name) and len(a.name) <= 60, "--name",
           f"a name of at most 60 characters ({NAME_RULE})", a.name)
-    check(NAME.match(a.material), "--material", f"a name ({NAME_RULE})", a.material)
-    check(finite(a.E) and a.E > 0.0, "--E", "a positive finite Young's modulus", a.E)
-    check(-1.0 < a.nu < 0.5, "--nu", "a Poisson ratio in (-1, 0.5)", a.nu)
-    check(finite(a.rho) and a.rho > 0.0, "--rho", "a positive finite density", a.rho)
+    check_material(check, a)
     check(finite(a.vx), "--vx", "a finite velocity", a.vx)
     check(finite(a.vy), "--vy", "a finite velocity", a.vy)
     check(a.wall is None or (finite(a.wall) and a.wall > 0.0), "--wall",
           "a positive finite penalty", a.wall)
+    check_step(check, a)
+
+
+def check_material(check, a):
+    """The options --material, --E, --nu, --rho, through check (see checker)."""
+    finite = math.isfinite
+    check(NAME.match(a.material), "--material", f"a name ({NAME_RULE})", a.material)
+    check(finite(a.E) and a.E > 0.0, "--E", "a positive finite Young's modulus", a.E)
+    check(-1.0 < a.nu < 0.5, "--nu", "a Poisson ratio in (-1, 0.5)", a.nu)
+    check(finite(a.rho) and a.rho > 0.0, "--rho", "a positive finite density", a.rho)
+
+
+def check_step(check, a, field_default="the program's default"):
+    """The step options --dt, --t-end, --field-every (0 meaning field_default), through check."""
+    finite = math.isfinite
     check(finite(a.dt) and a.dt >= 0.0, "--dt", "a finite time step >= 0 (0: automatic)", a.dt)
     check(finite(a.t_end) and a.t_end > 0.0, "--t-end", "a positive finite end time", a.t_end)
-    check(a.field_every >= 0, "--field-every", "an integer >= 0 (0: the program's default)",
+    check(a.field_every >= 0, "--field-every", f"an integer >= 0 (0: {field_default})",
           a.field_every)
 
 
@@ -301,14 +317,22 @@ def defaults_with(ap, kw):
     return a
 
 
-def main():
-    a = parser().parse_args()
+def command(script):
+    """The command line that made a deck: scripts/mesh/SCRIPT and this run's arguments (quoted
+    where they hold a blank)."""
+    return f"scripts/mesh/{script} " + " ".join(f"'{s}'" if " " in s else s for s in sys.argv[1:])
+
+
+def run(ap, check_options, body_cards, deck, script):
+    """The main program of a mesh script: parses the command line with ap, checks the options,
+    writes to stdout the body cards (--body-only) or the whole deck."""
+    a = ap.parse_args()
     check_options(a)
-    if a.body_only:
-        sys.stdout.write(body_cards(a))
-        return
-    args = " ".join(f"'{s}'" if " " in s else s for s in sys.argv[1:])
-    sys.stdout.write(deck(a, "scripts/mesh/halfdisc.py " + args))
+    sys.stdout.write(body_cards(a) if a.body_only else deck(a, command(script)))
+
+
+def main():
+    run(parser(), check_options, body_cards, deck, "halfdisc.py")
 
 
 if __name__ == "__main__":

@@ -106,10 +106,7 @@ def check_options(a):
           f"an integer in [0, {MAX_PASSES}] (0: the default solver)", a.mass_passes)
     check(finite(a.penalty) and a.penalty > 0.0, "--penalty", "a positive finite penalty",
           a.penalty)
-    check(finite(a.dt) and a.dt >= 0.0, "--dt", "a finite time step >= 0 (0: automatic)", a.dt)
-    check(finite(a.t_end) and a.t_end > 0.0, "--t-end", "a positive finite end time", a.t_end)
-    check(a.field_every >= 0, "--field-every", "an integer >= 0 (0: 20 snapshots)",
-          a.field_every)
+    halfdisc.check_step(check, a, "20 snapshots")
     check(a.lower >= 0, "--lower", "an integer >= 0 (0: as the upper body)", a.lower)
     if a.lower:
         check(a.kind in ("iga", "q8") and a.grade_arc == 1.0 and a.grade_depth == 1.0 and
@@ -326,8 +323,7 @@ def options(**kw):
 def main():
     a = parser().parse_args()
     check_options(a)
-    args = " ".join(f"'{s}'" if " " in s else s for s in sys.argv[1:])
-    sys.stdout.write(deck(a, "scripts/mesh/hertz.py " + args))
+    sys.stdout.write(deck(a, halfdisc.command("hertz.py")))
 
 
 if __name__ == "__main__":
