@@ -333,7 +333,7 @@ contains
     end if
     call get_name(c, key, .true., name)
     call get_name(c, 'PATCH', .false., patch)
-    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+    call get_side(c, side)
     if (side > 0) side = side_codes(side)
     if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
         'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
@@ -462,7 +462,7 @@ contains
     call get_name(c, 'NAME', .true., s%name)
     call get_choice(c, 'TYPE', 'ELEMENT', kind)
     call get_name(c, 'PATCH', .false., s%patch)
-    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+    call get_side(c, side)
     if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
         'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
     if (has_param(c, 'PATCH') .and. has_param(c, 'TYPE')) call card_error(c, &
@@ -556,8 +556,8 @@ contains
         case ('SIDE')
           k = findloc(names, upper(val), dim=1)
           if (k == 0) then
-            call input_error(w, '*SURFACE: bad value SIDE='//shown(val)// &
-                ' (expected one of XI0, XI1, ETA0, ETA1, ALL)')
+            call input_error(w, '*SURFACE: bad value SIDE='//shown(val)//' ('// &
+                side_expected(val)//')')
             return
           end if
           s%side_code(n) = side_codes(k)
@@ -692,4 +692,36 @@ contains
     call move_alloc(w, s%ref_where)
   end subroutine add_ref
 
+
+  !> SIDE= of a patch side on card c: its position in XI0|XI1|ETA0|ETA1|ALL (0 when absent
+  !! or bad; a bad value is an error naming what is expected, side_expected).
+  subroutine get_side(c, side)
+    type(card_t), intent(inout) :: c
+    integer, intent(out) :: side
+    character(len=:), allocatable :: v
+    side = 0
+    if (get_param(c, 'SIDE', v)) then
+      if (is_zeta(v)) then
+        call card_error(c, 'bad value SIDE='//shown(v)//' ('//side_expected(v)//')')
+        return
+      end if
+    end if
+    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+  end subroutine get_side
+
+  !> What a SIDE= value should be instead of v: ZETA0 and ZETA1 are sides of trivariate
+  !! (3D) patches, which the patches of a 2D analysis are not.
+  function side_expected(v) result(msg)
+    character(len=*), intent(in) :: v
+    character(len=:), allocatable :: msg
+    msg = 'expected one of XI0, XI1, ETA0, ETA1, ALL'
+    if (is_zeta(v)) msg = upper(v)//' is a side of a trivariate patch (3D); the patches of '// &
+        'a 2D analysis have the sides XI0, XI1, ETA0, ETA1 (or ALL)'
+  end function side_expected
+
+  !> Whether v names a side of the third parametric direction.
+  pure logical function is_zeta(v)
+    character(len=*), intent(in) :: v
+    is_zeta = upper(trim(adjustl(v))) == 'ZETA0' .or. upper(trim(adjustl(v))) == 'ZETA1'
+  end function is_zeta
 end module ictus_io_deck_model

@@ -86,8 +86,12 @@ contains
 
     call check_params(c, 'DIRECTION', '')
     if (get_ints(c, 'DIRECTION', 1, '1 or 2', dir, required=.true.)) then
-      if (dir(1) /= 1 .and. dir(1) /= 2) call card_error(c, 'bad value DIRECTION='// &
-          str(dir(1))//' (expected 1 or 2)')
+      if (dir(1) == 3) then
+        call card_error(c, 'bad value DIRECTION=3: the third direction of a trivariate '// &
+            'patch (3D); the patches of a 2D analysis are bivariate (expected 1 or 2)')
+      else if (dir(1) /= 1 .and. dir(1) /= 2) then
+        call card_error(c, 'bad value DIRECTION='//str(dir(1))//' (expected 1 or 2)')
+      end if
     end if
     if (.not. patch_context(c, rd) .or. c%bad) return
     associate (pa => d%patches(rd%patch))
