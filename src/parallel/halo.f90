@@ -23,10 +23,15 @@ module ictus_parallel_halo
     integer, allocatable :: neigh(:)
     integer, allocatable :: send_ptr(:), send_idx(:)
     integer, allocatable :: recv_ptr(:), recv_idx(:)
-    !> Buffers (2 values per node).
+    !> Buffers (up to max_comp values per node) and the offsets of each neighbour's values
+    !! in them for the number of components of the last exchange (ncomp).
     real(dp), allocatable :: sbuf(:), rbuf(:)
     integer, allocatable :: sptr2(:), rptr2(:)
+    integer :: ncomp = 0
   end type halo_t
+
+  !> Most values per node an exchange carries (a 3D vector).
+  integer, parameter :: max_comp = 3
 
 contains
 
@@ -89,23 +94,31 @@ contains
     do i = 1, size(give)
       h%send_idx(i) = g2l(give(i))
     end do
-    allocate(h%sbuf(2*size(give)), h%rbuf(2*h%nghost))
-    h%sptr2 = 2*h%send_ptr - 1
-    h%rptr2 = 2*h%recv_ptr - 1
+    allocate(h%sbuf(max_comp*size(give)), h%rbuf(max_comp*h%nghost))
+    allocate(h%sptr2(size(h%send_ptr)), h%rptr2(size(h%recv_ptr)))
+    h%ncomp = 0
   end subroutine halo_setup
 
-  !> Copies the owned values of x(2, nlocal) into the ghost entries on the other ranks.
+  !> Copies the owned values of x(nc, nlocal) (nc = 1..3 values per node: a 2D or 3D vector)
+  !! into the ghost entries on the other ranks.
   subroutine halo_exchange(h, x)
     type(halo_t), intent(inout) :: h
     real(dp), intent(inout) :: x(:,:)
-    integer :: i
+    integer :: i, nc
     if (size(h%neigh) == 0) return
+    nc = size(x, 1)
+    if (nc > max_comp) error stop 'halo_exchange: more than 3 values per node'
+    if (nc /= h%ncomp) then
+      h%sptr2 = nc*(h%send_ptr - 1) + 1
+      h%rptr2 = nc*(h%recv_ptr - 1) + 1
+      h%ncomp = nc
+    end if
     do i = 1, size(h%send_idx)
-      h%sbuf(2*i - 1:2*i) = x(:, h%send_idx(i))
+      h%sbuf(nc*(i - 1) + 1:nc*i) = x(:, h%send_idx(i))
     end do
     call exchange(h%neigh, h%sptr2, h%sbuf, h%rptr2, h%rbuf)
     do i = 1, h%nghost
-      x(:, h%recv_idx(i)) = h%rbuf(2*i - 1:2*i)
+      x(:, h%recv_idx(i)) = h%rbuf(nc*(i - 1) + 1:nc*i)
     end do
   end subroutine halo_exchange
 end module ictus_parallel_halo
