@@ -20,7 +20,7 @@ module ictus_materials_law
   implicit none
   private
   public :: law_t, kinematics_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
-      voigt_strain, voigt_of, tensor_of, det3, stretch_measures, stress_norm
+      voigt_strain, voigt_of, tensor_of, det3, adjugate3, stretch_measures, stress_norm
 
   !> The kinematic idealisation a law is evaluated in.
   integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2, ANALYSIS_3D = 3
@@ -150,6 +150,21 @@ contains
     det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - &
         a(2, 3)*a(3, 1)) + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
   end function det3
+
+  !> The adjugate of a 3 x 3 matrix (the transposed cofactor matrix): adj(a) = det(a) a^-1.
+  pure function adjugate3(a) result(b)
+    real(dp), intent(in) :: a(3, 3)
+    real(dp) :: b(3, 3)
+    b(1, 1) = a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)
+    b(1, 2) = a(1, 3)*a(3, 2) - a(1, 2)*a(3, 3)
+    b(1, 3) = a(1, 2)*a(2, 3) - a(1, 3)*a(2, 2)
+    b(2, 1) = a(2, 3)*a(3, 1) - a(2, 1)*a(3, 3)
+    b(2, 2) = a(1, 1)*a(3, 3) - a(1, 3)*a(3, 1)
+    b(2, 3) = a(1, 3)*a(2, 1) - a(1, 1)*a(2, 3)
+    b(3, 1) = a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1)
+    b(3, 2) = a(1, 2)*a(3, 1) - a(1, 1)*a(3, 2)
+    b(3, 3) = a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1)
+  end function adjugate3
 
   !> The symmetric 3 x 3 tensor a in Voigt order (xx, yy, zz, xy, yz, zx), no factor 2.
   pure function voigt_of(a) result(v)
