@@ -10,16 +10,18 @@
 !! `element_routine(task, ...)` runs one task on one element (mass, internal force, stiffness,
 !! stress, Jacobian check) through the type's kernel. Q4, Q8, Q9 and Bezier-extracted NURBS
 !! spans share the isoparametric solid kernel (ictus_elements_solid2d) and differ only in their
-!! shape data. The time loop's internal force calls `element_force` with the geometry that
-!! `element_geometry` stored once.
+!! shape data. The hexahedra C3D8, C3D20 and C3D27 are described here; their kernel comes with
+!! ictus_elements_solid3d. The time loop's internal force calls `element_force` with the
+!! geometry that `element_geometry` stored once.
 module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, &
-      elem_shape_t, element_kind_t, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
-      TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
-  use ictus_elements_quadrature, only: gauss_rule_2d
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, &
+      ETYPE_C3D20, ETYPE_C3D27, ETYPE_BUILTIN, elem_shape_t, element_kind_t, TASK_MASS, &
+      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
+  use ictus_elements_quadrature, only: gauss_rule_2d, gauss_rule_3d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
+  use ictus_elements_hexahedra, only: c3d8_kind, c3d20_kind, c3d27_kind
   use ictus_elements_iga, only: iga_kind
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_geometry, solid2d_force, solid2d_rotation
@@ -27,10 +29,10 @@ module ictus_elements_library
   use ictus_materials_material, only: material_t
   implicit none
   private
-  public :: element_kind, element_register, element_type_count, etype_name, etype_nen, element_type_of, element_default_ngauss, &
-      element_type_named, element_abaqus_names, &
-      element_shape_data, element_shape_rule, element_routine, element_out_t, &
-      element_geometry, element_force, element_types_named
+  public :: element_kind, element_register, element_type_count, etype_name, etype_nen, &
+      etype_ndm, element_type_of, element_default_ngauss, element_type_named, &
+      element_abaqus_names, element_shape_data, element_shape_rule, element_routine, &
+      element_out_t, element_geometry, element_force, element_types_named
 
   !> Everything is computed per unit thickness in 2D (doc/results.md): with a uniform
   !! thickness t, stiffness, mass and forces all scale with t, and the motion does not depend
@@ -70,6 +72,9 @@ contains
     table(ETYPE_Q8) = q8_kind()
     table(ETYPE_Q9) = q9_kind()
     table(ETYPE_IGA) = iga_kind()
+    table(ETYPE_C3D8) = c3d8_kind()
+    table(ETYPE_C3D20) = c3d20_kind()
+    table(ETYPE_C3D27) = c3d27_kind()
     ntypes = ETYPE_BUILTIN
   end subroutine fill_table
 
@@ -121,6 +126,14 @@ contains
     if (etype >= 1 .and. etype <= ntypes) etype_nen = table(etype)%nen
   end function etype_nen
 
+  !> Spatial dimension of an element type (2 or 3; 0 for an unknown code).
+  integer function etype_ndm(etype)
+    integer, intent(in) :: etype
+    call fill_table()
+    etype_ndm = 0
+    if (etype >= 1 .and. etype <= ntypes) etype_ndm = table(etype)%ndm
+  end function etype_ndm
+
   !> Code of the finite-element type with deck name `name` (any case); 0 when none (NURBS
   !! spans are not named on *ELEMENT).
   integer function element_type_of(name)
@@ -160,14 +173,19 @@ contains
     end do
   end subroutine element_type_named
 
-  !> The Abaqus names of the finite-element types, for messages: "CPE4, CPS4 (Q4), ...".
-  function element_abaqus_names() result(list)
+  !> The Abaqus names of the finite-element types, for messages: "CPE4, CPS4 (Q4), ...";
+  !! ndm (optional): only the types of that dimension.
+  function element_abaqus_names(ndm) result(list)
+    integer, intent(in), optional :: ndm
     character(len=:), allocatable :: list
     integer :: t, a
     call fill_table()
     list = ''
     do t = 1, ntypes
       if (table(t)%nen == 0 .or. table(t)%naliases == 0) cycle
+      if (present(ndm)) then
+        if (table(t)%ndm /= ndm) cycle
+      end if
       if (len(list) > 0) list = list//', '
       do a = 1, table(t)%naliases
         if (a > 1) list = list//', '
@@ -177,14 +195,19 @@ contains
     end do
   end function element_abaqus_names
 
-  !> The deck names of the finite-element types, comma separated (for messages).
-  function element_types_named() result(list)
+  !> The deck names of the finite-element types, comma separated (for messages); ndm
+  !! (optional): only the types of that dimension.
+  function element_types_named(ndm) result(list)
+    integer, intent(in), optional :: ndm
     character(len=:), allocatable :: list
     integer :: t
     call fill_table()
     list = ''
     do t = 1, ntypes
       if (table(t)%nen == 0) cycle
+      if (present(ndm)) then
+        if (table(t)%ndm /= ndm) cycle
+      end if
       if (len(list) > 0) list = list//', '
       list = list//trim(table(t)%name)
     end do
@@ -200,7 +223,7 @@ contains
   end function element_default_ngauss
 
   !> Shape data of a finite-element type for its quadrature rule of `ngauss`: the type's own
-  !! rule where it has one, else the ngauss x ngauss Gauss rule (xi running fastest).
+  !! rule where it has one, else the ngauss^ndm Gauss rule (xi running fastest, then eta).
   !! etype; ngauss; shp: filled (nen, ngp, n, dn, w). For NURBS (shape data depend on the span) or an unknown type,
   !! shp is left empty (nen = ngp = 0, nothing allocated).
   subroutine element_shape_data(etype, ngauss, shp)
@@ -212,6 +235,9 @@ contains
     if (k%nen == 0) return
     if (associated(k%rule)) then
       call k%rule(ngauss, xq, wq)
+    else if (k%ndm == 3) then
+      allocate(xq(3, ngauss**3), wq(ngauss**3))
+      call gauss_rule_3d(ngauss, ngauss, ngauss, xq, wq)
     else
       allocate(xq(2, ngauss*ngauss), wq(ngauss*ngauss))
       call gauss_rule_2d(ngauss, ngauss, xq, wq)

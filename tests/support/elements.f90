@@ -1,9 +1,11 @@
 !> Element routines that only the tests use.
 module ictus_test_elements
   use ictus_core_kinds, only: dp
+  use ictus_elements_types, only: shape_at_i
+  use ictus_test_check, only: checker_t
   implicit none
   private
-  public :: element_omega_max
+  public :: element_omega_max, check_shape_functions, cross3
 
   interface
     subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
@@ -74,4 +76,49 @@ contains
     if (ierr == 0) omega = sqrt(max(lam(n), 0.0_dp))
     if (present(info)) info = ierr
   end subroutine element_omega_max
+
+  !> Checks of a family's shape functions at the parent points pts(ndm, np): partition of
+  !! unity (1e-15), each derivative summing to zero (1e-14), the derivatives against central
+  !! differences (step 1e-5: truncation ~1e-10 for these polynomials; 1e-9), and the Kronecker
+  !! delta at the nodes of parent coordinates xnode(ndm, nen) (1e-15).
+  subroutine check_shape_functions(t, label, shape, xnode, pts)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: label
+    procedure(shape_at_i) :: shape
+    real(dp), intent(in) :: xnode(:,:), pts(:,:)
+    real(dp), parameter :: h = 1.0e-5_dp
+    real(dp) :: n(size(xnode, 2)), dn(size(xnode, 1), size(xnode, 2)), np(size(xnode, 2))
+    real(dp) :: nm(size(xnode, 2)), dd(size(xnode, 1), size(xnode, 2)), x(size(xnode, 1))
+    integer :: p, a, b, i
+    do p = 1, size(pts, 2)
+      call shape(pts(:, p), n, dn)
+      call t%close(sum(n), 1.0_dp, 1.0e-15_dp, label//' sum N = 1')
+      do i = 1, size(xnode, 1)
+        call t%close_abs(sum(dn(i, :)), 0.0_dp, 1.0e-14_dp, label//' sum dN = 0')
+        x = pts(:, p)
+        x(i) = x(i) + h
+        call shape(x, np, dd)
+        x(i) = x(i) - 2.0_dp*h
+        call shape(x, nm, dd)
+        do a = 1, size(xnode, 2)
+          call t%close_abs(dn(i, a), (np(a) - nm(a))/(2.0_dp*h), 1.0e-9_dp, &
+              label//' dN vs central difference')
+        end do
+      end do
+    end do
+    do b = 1, size(xnode, 2)
+      call shape(xnode(:, b), n, dn)
+      do a = 1, size(xnode, 2)
+        call t%close_abs(n(a), merge(1.0_dp, 0.0_dp, a == b), 1.0e-15_dp, &
+            label//' N_A(x_B) = delta_AB')
+      end do
+    end do
+  end subroutine check_shape_functions
+
+  !> The cross product a x b.
+  pure function cross3(a, b) result(c)
+    real(dp), intent(in) :: a(3), b(3)
+    real(dp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross3
 end module ictus_test_elements
