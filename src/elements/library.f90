@@ -10,21 +10,24 @@
 !! `element_routine(task, ...)` runs one task on one element (mass, internal force, stiffness,
 !! stress, Jacobian check) through the type's kernel. Q4, Q8, Q9 and Bezier-extracted NURBS
 !! spans share the isoparametric solid kernel (ictus_elements_solid2d) and differ only in their
-!! shape data. The hexahedra C3D8, C3D20 and C3D27 are described here; their kernel comes with
-!! ictus_elements_solid3d. The time loop's internal force calls `element_force` with the
-!! geometry that `element_geometry` stored once.
+!! shape data; the hexahedra C3D8, C3D20 and C3D27 share the 3D one (ictus_elements_solid3d).
+!! The time loop's internal force calls `element_force` with the geometry that
+!! `element_geometry` stored once.
 module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, &
       ETYPE_C3D20, ETYPE_C3D27, ETYPE_BUILTIN, elem_shape_t, element_kind_t, TASK_MASS, &
-      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
+      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
+      KERNEL_SOLID3D
   use ictus_elements_quadrature, only: gauss_rule_2d, gauss_rule_3d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
   use ictus_elements_hexahedra, only: c3d8_kind, c3d20_kind, c3d27_kind
   use ictus_elements_iga, only: iga_kind
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_geometry, solid2d_force, solid2d_rotation
+  use ictus_elements_solid3d, only: solid3d_stiffness, solid3d_mass, solid3d_stress, &
+      solid3d_min_detj, solid3d_geometry, solid3d_force, solid3d_rotation
   use ictus_materials_law, only: law_t
   use ictus_materials_material, only: material_t
   implicit none
@@ -45,10 +48,10 @@ module ictus_elements_library
 
   !> Results of one call of the element routine.
   type :: element_out_t
-    !> TASK_STIFFNESS: stiffness (2 nen, 2 nen), dof order x1, y1, ...; TASK_MASS: scalar
-    !! consistent mass (nen, nen).
+    !> TASK_STIFFNESS: stiffness (ndm nen, ndm nen), dof order x1, y1[, z1], ...; TASK_MASS:
+    !! scalar consistent mass (nen, nen).
     real(dp), allocatable :: s(:,:)
-    !> TASK_FORCE: internal force (2, nen).
+    !> TASK_FORCE: internal force (ndm, nen).
     real(dp), allocatable :: p(:,:)
     !> TASK_STRESS: Cauchy stress and strain per quadrature point (6, ngp), (xx, yy, zz, xy,
     !! yz, zx; tensor shears; the logarithmic strain with NLGEOM).
@@ -267,7 +270,8 @@ contains
   !> The element routine: runs `task` (TASK_*; TASK_STIFFNESS with the law's reference
   !! tangent) on one element of type etype with shape data
   !! shp, node coordinates xl(ndm, nen) and material mat (whose law knows its kinematics: 2D
-  !! idealisation, small or finite strain).
+  !! idealisation or 3D, small or finite strain). The type's kernel decides ndm: 2 for
+  !! KERNEL_SOLID2D (per unit thickness), 3 for KERNEL_SOLID3D.
   !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
   !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. `mean` (optional): the element shares
   !! its mean dilatation (B-bar / F-bar, doc/theory.md §2.1). Results go to `out` (element_out_t),
@@ -282,11 +286,14 @@ contains
     real(dp), intent(out), optional :: hist_new(:,:)
     logical, intent(in), optional :: mean
     real(dp), allocatable :: dnx(:,:,:), dvol(:), h0(:,:), h1(:,:)
-    real(dp) :: d(3, 3)
-    integer :: nen, nh
+    real(dp) :: d(3, 3), d6(6, 6)
+    integer :: nen, nh, ndm
+    logical :: k3
     nen = shp%nen
     out%ierr = 0
     nh = mat%law%nhist
+    k3 = element_kind_kernel(etype) == KERNEL_SOLID3D
+    ndm = merge(3, 2, k3)
     if (present(hist_old)) then
       h0 = hist_old
     else
@@ -295,14 +302,23 @@ contains
     select case (task)
     case (TASK_MASS)
       call fit(out%s, nen, nen)
-      call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_mass(nen, shp, xl, mat%density, out%s, out%scalar, out%ierr)
+      else
+        call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
+      end if
     case (TASK_STIFFNESS)
-      call fit(out%s, 2*nen, 2*nen)
-      call mat%law%tangent_2d(d)
-      call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
+      call fit(out%s, ndm*nen, ndm*nen)
+      if (k3) then
+        call mat%law%tangent_3d(d6)
+        call solid3d_stiffness(nen, shp, xl, d6, out%s, out%ierr)
+      else
+        call mat%law%tangent_2d(d)
+        call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
+      end if
     case (TASK_FORCE)
-      call fit(out%p, 2, nen)
-      allocate(dnx(2, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
+      call fit(out%p, ndm, nen)
+      allocate(dnx(ndm, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
       call element_geometry(etype, shp, xl, dnx, dvol, out%ierr)
       if (out%ierr /= 0) return
       call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, h0, h1, out%p, &
@@ -311,11 +327,23 @@ contains
     case (TASK_STRESS)
       call fit(out%sig, 6, shp%ngp)
       call fit(out%eps, 6, shp%ngp)
-      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      if (k3) then
+        call solid3d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      else
+        call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      end if
     case (TASK_JACOBIAN)
-      call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      else
+        call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      end if
     case (TASK_ROTATION)
-      call solid2d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      else
+        call solid2d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      end if
     end select
   end subroutine element_routine
 
@@ -342,6 +370,8 @@ contains
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
       call solid2d_geometry(shp%nen, shp, xl, unit_thickness, dnx, dvol, ierr)
+    case (KERNEL_SOLID3D)
+      call solid3d_geometry(shp%nen, shp, xl, dnx, dvol, ierr)
     case default
       ierr = -1
     end select
@@ -362,6 +392,9 @@ contains
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
       call solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr, &
+          mean)
+    case (KERNEL_SOLID3D)
+      call solid3d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr, &
           mean)
     case default
       ierr = -1

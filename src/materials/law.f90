@@ -64,6 +64,8 @@ module ictus_materials_law
     procedure(law_wave_i), deferred :: wave_speed
     !> The tangent at the reference state in 2D Voigt order.
     procedure :: tangent_2d => law_tangent_2d
+    !> The tangent at the reference state in 3D Voigt order (from d2: isotropic laws).
+    procedure :: tangent_3d => law_tangent_3d
     !> c/c_0: the current dilatational wave speed (current density) over that of the
     !! reference state, for the stable step during a finite-strain run. The default
     !! holds for a law whose second Piola-Kirchhoff stress has a constant tangent (St.
@@ -104,6 +106,23 @@ contains
     real(dp), intent(out) :: d(3, 3)
     d = this%d2(:, :, merge(2, 1, this%kin%analysis == ANALYSIS_PLANE_STRESS))
   end subroutine law_tangent_2d
+
+  !> d(6, 6): the small-strain tangent at the reference state in 3D Voigt order (xx, yy, zz,
+  !! xy, yz, zx; engineering shears): the isotropic tangent whose normal entries lambda + 2 mu
+  !! and lambda and shear entry mu are those of the plane-strain tangent d2(:, :, 1). The
+  !! plane-strain tangent is the 3D one on the in-plane components, so this is exact for every
+  !! isotropic law (all of ictus's); an anisotropic law overrides it.
+  pure subroutine law_tangent_3d(this, d)
+    class(law_t), intent(in) :: this
+    real(dp), intent(out) :: d(6, 6)
+    integer :: i
+    d = 0.0_dp
+    d(1:3, 1:3) = this%d2(1, 2, 1)
+    do i = 1, 3
+      d(i, i) = this%d2(1, 1, 1)
+      d(i + 3, i + 3) = this%d2(3, 3, 1)
+    end do
+  end subroutine law_tangent_3d
 
   !> c/c_0 of a law whose tangent dS/dE is constant (doc/theory.md §7.1): in the current
   !! state the dilatational modulus is at most M = M_0 lam_max(b)^2/J + |sigma| (M_0 the
