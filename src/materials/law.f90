@@ -8,7 +8,7 @@
 !! no state of its own, so a law with history stores it in the state of the run (and so in
 !! checkpoints) through `nhist`. `wave_speed` gives the dilatational wave speed that bounds
 !! the stable time step at the start, `wave_ratio` how much faster the waves run in the
-!! current state (finite strain: the stable step follows it during the run), and `tangent_2d` the small-strain tangent at the reference state; a
+!! current state (finite strain: the stable step follows it during the run), and `tangent_2d` the small-strain tangent at the reference state (`tangent_3d` its 3D form); a
 !! `linear` law's tangent is exact everywhere, so its internal force may be the assembled
 !! product K u (doc/theory.md).
 !!
