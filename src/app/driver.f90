@@ -14,7 +14,7 @@ module ictus_app_driver
   use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_env, only: env_size, allreduce_max, allgather_int, allgatherv_real, &
       env_node_size
-  use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
+  use ictus_elements_types, only: ETYPE_Q8, ETYPE_C3D20, ETYPE_IGA
   use ictus_elements_library, only: etype_name
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
@@ -395,6 +395,10 @@ contains
         ': row-sum lumping of 8-node serendipity elements gives their corner nodes a '// &
         'negative mass (-1/12 of the element mass on a square). Use TYPE=HRZ, TYPE=ALPHA '// &
         'or TYPE=CONSISTENT for these elements'
+    if (model%mass_kind(e) == MASS_ROW_SUM .and. model%etype(e) == ETYPE_C3D20) why = &
+        ': row-sum lumping of 20-node serendipity elements gives their corner nodes a '// &
+        'negative mass (-1/8 of the element mass on a cube). Use TYPE=HRZ or '// &
+        'TYPE=CONSISTENT for these elements'
   end function mass_reason
 
   !> An element that holds node i.

@@ -4,15 +4,18 @@ module ictus_elements_types
   use ictus_core_kinds, only: dp
   implicit none
   private
-  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, elem_shape_t, &
-      element_kind_t, shape_at_i, rule_i, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
-      TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
+  public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, ETYPE_C3D20, ETYPE_C3D27, &
+      ETYPE_BUILTIN, elem_shape_t, element_kind_t, shape_at_i, rule_i, add_alias, TASK_MASS, &
+      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
+      KERNEL_SOLID3D
 
-  !> Lagrange/serendipity quadrilaterals from *ELEMENT, and NURBS (Bezier-extracted) spans.
+  !> Lagrange/serendipity quadrilaterals from *ELEMENT, NURBS (Bezier-extracted) spans, and
+  !! the hexahedra C3D8 (trilinear), C3D20 (serendipity) and C3D27 (triquadratic).
   !! Codes index the dispatcher's table (ictus_elements_library); a type registered at run
   !! time (`element_register`) takes the next code after ETYPE_BUILTIN.
   integer, parameter :: ETYPE_Q4 = 1, ETYPE_Q8 = 2, ETYPE_Q9 = 3, ETYPE_IGA = 4
-  integer, parameter :: ETYPE_BUILTIN = 4
+  integer, parameter :: ETYPE_C3D8 = 5, ETYPE_C3D20 = 6, ETYPE_C3D27 = 7
+  integer, parameter :: ETYPE_BUILTIN = 7
 
   !> Tasks of the element routine (`element_routine`): the scalar consistent mass, the internal
   !! force of the material law, the small-strain stiffness of a linear law, the stress at the
@@ -21,8 +24,9 @@ module ictus_elements_types
   integer, parameter :: TASK_MASS = 1, TASK_FORCE = 2, TASK_STIFFNESS = 3, TASK_STRESS = 4, &
       TASK_JACOBIAN = 5, TASK_ROTATION = 6
 
-  !> Element kernels: the isoparametric 2D solid (ictus_elements_solid2d).
-  integer, parameter :: KERNEL_SOLID2D = 1
+  !> Element kernels: the isoparametric 2D solid (ictus_elements_solid2d) and the
+  !! isoparametric 3D solid (ictus_elements_solid3d).
+  integer, parameter :: KERNEL_SOLID2D = 1, KERNEL_SOLID3D = 2
 
   !> Shape functions of one element (or one element type) at its quadrature points.
   !! Derivatives are with respect to the parent coordinates in [-1, 1]^ndm, so the same
@@ -34,7 +38,7 @@ module ictus_elements_types
     integer :: ngp = 0
     !> Shape function values, (nen, ngp).
     real(dp), allocatable :: n(:,:)
-    !> Derivatives d N / d(xi, eta), (ndm, nen, ngp).
+    !> Derivatives d N / d(xi, eta[, zeta]), (ndm, nen, ngp).
     real(dp), allocatable :: dn(:,:,:)
     !> Quadrature weights in the parent domain, (ngp).
     real(dp), allocatable :: w(:)
@@ -64,23 +68,29 @@ module ictus_elements_types
     character(len=16) :: name = '?'
     character(len=16) :: xdmf = ''
     !> Other deck names of the type (the Abaqus names, deck format 2): for each, the analysis
-    !! it implies (ANALYSIS_PLANE_STRAIN or _STRESS of ictus_materials_law; 0: none) and its
-    !! Gauss points per direction (0: the type's full rule).
+    !! it implies (ANALYSIS_PLANE_STRAIN, _STRESS or _3D of ictus_materials_law; 0: none) and
+    !! its Gauss points per direction (0: the type's full rule).
     integer :: naliases = 0
     character(len=16) :: alias(6) = ''
     integer :: alias_analysis(6) = 0
     integer :: alias_gauss(6) = 0
-    !> Spatial dimension, nodes (0: set by the NURBS degrees), corner nodes.
+    !> Spatial dimension (2 for the quadrilaterals and NURBS spans, 3 for the hexahedra),
+    !! nodes (0: set by the NURBS degrees), corner nodes.
     integer :: ndm = 2
     integer :: nen = 0
     integer :: ncorner = 0
     !> Full Gauss rule: points per direction (0: from the degrees, p + 1).
     integer :: ngauss = 0
-    !> Faces: how many, nodes per face and their local node numbers (nfn, nface) in order
-    !! along the face.
+    !> Faces: how many, nodes per face and their local node numbers (nfn, nface). In 2D a face
+    !! is an edge, its nodes in order along it. In 3D a face is a quadrilateral, its nodes in
+    !! the order of Q4/Q8/Q9 (corners, then the midside of corners 1-2, 2-3, 3-4, 4-1, then
+    !! the centre), the corners running so that the right-hand rule gives the outward normal.
     integer :: nface = 0
     integer :: nfn = 0
     integer, allocatable :: face(:,:)
+    !> Node order of the XDMF topology, where it differs from ours: XDMF node k is local node
+    !! xdmf_order(k) (not allocated: the same order).
+    integer, allocatable :: xdmf_order(:)
     !> Polynomial order along an edge (1 linear, 2 quadratic) and whether the element has the
     !! centre node of a full tensor-product Lagrange element.
     integer :: order = 0
@@ -92,4 +102,17 @@ module ictus_elements_types
     !> Quadrature rule; null: the tensor Gauss rule of ndm directions on [-1, 1]^ndm.
     procedure(rule_i), pointer, nopass :: rule => null()
   end type element_kind_t
+
+contains
+
+  !> Adds an Abaqus deck name to k: the analysis it implies and its Gauss rule (0: the full one).
+  subroutine add_alias(k, name, analysis, gauss)
+    type(element_kind_t), intent(inout) :: k
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: analysis, gauss
+    k%naliases = k%naliases + 1
+    k%alias(k%naliases) = name
+    k%alias_analysis(k%naliases) = analysis
+    k%alias_gauss(k%naliases) = gauss
+  end subroutine add_alias
 end module ictus_elements_types

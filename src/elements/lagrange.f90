@@ -6,13 +6,13 @@
 module ictus_elements_lagrange
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t, element_kind_t, &
-      KERNEL_SOLID2D
+      KERNEL_SOLID2D, add_alias
   use ictus_elements_quadrature, only: gauss_rule_2d
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
   implicit none
   private
   public :: lagrange_shape, lagrange_shape_data, lagrange_face_nodes, lagrange_node_xi, &
-      q4_kind, q8_kind, q9_kind
+      q4_kind, q8_kind, q9_kind, quad_1d
 
   !> Parent coordinates of the 9 possible nodes, (2, 9).
   real(dp), parameter :: node_xi(2, 9) = reshape([ &
@@ -50,17 +50,6 @@ contains
     ! gmsh's name for its 9-node quadrilateral: a membrane in the plane, so plane stress.
     call add_alias(k, 'M3D9', ANALYSIS_PLANE_STRESS, 0)
   end function q9_kind
-
-  !> Adds an Abaqus deck name: the analysis it implies and its Gauss rule (0: the full one).
-  subroutine add_alias(k, name, analysis, gauss)
-    type(element_kind_t), intent(inout) :: k
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: analysis, gauss
-    k%naliases = k%naliases + 1
-    k%alias(k%naliases) = name
-    k%alias_analysis(k%naliases) = analysis
-    k%alias_gauss(k%naliases) = gauss
-  end subroutine add_alias
 
   !> The common part of the three quadrilaterals: 4 corners, 4 faces from corner k to k + 1
   !! (with midside k + 4 for the quadratic ones).

@@ -10,27 +10,32 @@
 !! `element_routine(task, ...)` runs one task on one element (mass, internal force, stiffness,
 !! stress, Jacobian check) through the type's kernel. Q4, Q8, Q9 and Bezier-extracted NURBS
 !! spans share the isoparametric solid kernel (ictus_elements_solid2d) and differ only in their
-!! shape data. The time loop's internal force calls `element_force` with the geometry that
+!! shape data; the hexahedra C3D8, C3D20 and C3D27 share the 3D one (ictus_elements_solid3d).
+!! The time loop's internal force calls `element_force` with the geometry that
 !! `element_geometry` stored once.
 module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_BUILTIN, &
-      elem_shape_t, element_kind_t, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, &
-      TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D
-  use ictus_elements_quadrature, only: gauss_rule_2d
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, &
+      ETYPE_C3D20, ETYPE_C3D27, ETYPE_BUILTIN, elem_shape_t, element_kind_t, TASK_MASS, &
+      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
+      KERNEL_SOLID3D
+  use ictus_elements_quadrature, only: gauss_rule_2d, gauss_rule_3d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
+  use ictus_elements_hexahedra, only: c3d8_kind, c3d20_kind, c3d27_kind
   use ictus_elements_iga, only: iga_kind
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_geometry, solid2d_force, solid2d_rotation
+  use ictus_elements_solid3d, only: solid3d_stiffness, solid3d_mass, solid3d_stress, &
+      solid3d_min_detj, solid3d_geometry, solid3d_force, solid3d_rotation
   use ictus_materials_law, only: law_t
   use ictus_materials_material, only: material_t
   implicit none
   private
-  public :: element_kind, element_register, element_type_count, etype_name, etype_nen, element_type_of, element_default_ngauss, &
-      element_type_named, element_abaqus_names, &
-      element_shape_data, element_shape_rule, element_routine, element_out_t, &
-      element_geometry, element_force, element_types_named
+  public :: element_kind, element_register, element_type_count, etype_name, etype_nen, &
+      etype_ndm, element_type_of, element_default_ngauss, element_type_named, &
+      element_abaqus_names, element_shape_data, element_shape_rule, element_routine, &
+      element_out_t, element_geometry, element_force, element_types_named
 
   !> Everything is computed per unit thickness in 2D (doc/results.md): with a uniform
   !! thickness t, stiffness, mass and forces all scale with t, and the motion does not depend
@@ -43,10 +48,10 @@ module ictus_elements_library
 
   !> Results of one call of the element routine.
   type :: element_out_t
-    !> TASK_STIFFNESS: stiffness (2 nen, 2 nen), dof order x1, y1, ...; TASK_MASS: scalar
-    !! consistent mass (nen, nen).
+    !> TASK_STIFFNESS: stiffness (ndm nen, ndm nen), dof order x1, y1[, z1], ...; TASK_MASS:
+    !! scalar consistent mass (nen, nen).
     real(dp), allocatable :: s(:,:)
-    !> TASK_FORCE: internal force (2, nen).
+    !> TASK_FORCE: internal force (ndm, nen).
     real(dp), allocatable :: p(:,:)
     !> TASK_STRESS: Cauchy stress and strain per quadrature point (6, ngp), (xx, yy, zz, xy,
     !! yz, zx; tensor shears; the logarithmic strain with NLGEOM).
@@ -70,6 +75,9 @@ contains
     table(ETYPE_Q8) = q8_kind()
     table(ETYPE_Q9) = q9_kind()
     table(ETYPE_IGA) = iga_kind()
+    table(ETYPE_C3D8) = c3d8_kind()
+    table(ETYPE_C3D20) = c3d20_kind()
+    table(ETYPE_C3D27) = c3d27_kind()
     ntypes = ETYPE_BUILTIN
   end subroutine fill_table
 
@@ -121,6 +129,14 @@ contains
     if (etype >= 1 .and. etype <= ntypes) etype_nen = table(etype)%nen
   end function etype_nen
 
+  !> Spatial dimension of an element type (2 or 3; 0 for an unknown code).
+  integer function etype_ndm(etype)
+    integer, intent(in) :: etype
+    call fill_table()
+    etype_ndm = 0
+    if (etype >= 1 .and. etype <= ntypes) etype_ndm = table(etype)%ndm
+  end function etype_ndm
+
   !> Code of the finite-element type with deck name `name` (any case); 0 when none (NURBS
   !! spans are not named on *ELEMENT).
   integer function element_type_of(name)
@@ -160,14 +176,19 @@ contains
     end do
   end subroutine element_type_named
 
-  !> The Abaqus names of the finite-element types, for messages: "CPE4, CPS4 (Q4), ...".
-  function element_abaqus_names() result(list)
+  !> The Abaqus names of the finite-element types, for messages: "CPE4, CPS4 (Q4), ...";
+  !! ndm (optional): only the types of that dimension.
+  function element_abaqus_names(ndm) result(list)
+    integer, intent(in), optional :: ndm
     character(len=:), allocatable :: list
     integer :: t, a
     call fill_table()
     list = ''
     do t = 1, ntypes
       if (table(t)%nen == 0 .or. table(t)%naliases == 0) cycle
+      if (present(ndm)) then
+        if (table(t)%ndm /= ndm) cycle
+      end if
       if (len(list) > 0) list = list//', '
       do a = 1, table(t)%naliases
         if (a > 1) list = list//', '
@@ -177,14 +198,19 @@ contains
     end do
   end function element_abaqus_names
 
-  !> The deck names of the finite-element types, comma separated (for messages).
-  function element_types_named() result(list)
+  !> The deck names of the finite-element types, comma separated (for messages); ndm
+  !! (optional): only the types of that dimension.
+  function element_types_named(ndm) result(list)
+    integer, intent(in), optional :: ndm
     character(len=:), allocatable :: list
     integer :: t
     call fill_table()
     list = ''
     do t = 1, ntypes
       if (table(t)%nen == 0) cycle
+      if (present(ndm)) then
+        if (table(t)%ndm /= ndm) cycle
+      end if
       if (len(list) > 0) list = list//', '
       list = list//trim(table(t)%name)
     end do
@@ -200,7 +226,7 @@ contains
   end function element_default_ngauss
 
   !> Shape data of a finite-element type for its quadrature rule of `ngauss`: the type's own
-  !! rule where it has one, else the ngauss x ngauss Gauss rule (xi running fastest).
+  !! rule where it has one, else the ngauss^ndm Gauss rule (xi running fastest, then eta).
   !! etype; ngauss; shp: filled (nen, ngp, n, dn, w). For NURBS (shape data depend on the span) or an unknown type,
   !! shp is left empty (nen = ngp = 0, nothing allocated).
   subroutine element_shape_data(etype, ngauss, shp)
@@ -212,6 +238,9 @@ contains
     if (k%nen == 0) return
     if (associated(k%rule)) then
       call k%rule(ngauss, xq, wq)
+    else if (k%ndm == 3) then
+      allocate(xq(3, ngauss**3), wq(ngauss**3))
+      call gauss_rule_3d(ngauss, ngauss, ngauss, xq, wq)
     else
       allocate(xq(2, ngauss*ngauss), wq(ngauss*ngauss))
       call gauss_rule_2d(ngauss, ngauss, xq, wq)
@@ -241,7 +270,8 @@ contains
   !> The element routine: runs `task` (TASK_*; TASK_STIFFNESS with the law's reference
   !! tangent) on one element of type etype with shape data
   !! shp, node coordinates xl(ndm, nen) and material mat (whose law knows its kinematics: 2D
-  !! idealisation, small or finite strain).
+  !! idealisation or 3D, small or finite strain). The type's kernel decides ndm: 2 for
+  !! KERNEL_SOLID2D (per unit thickness), 3 for KERNEL_SOLID3D.
   !! TASK_FORCE and TASK_STRESS also take the displacements ul(ndm, nen) and the history
   !! hist_old(nhist, ngp); TASK_FORCE returns hist_new. `mean` (optional): the element shares
   !! its mean dilatation (B-bar / F-bar, doc/theory.md §2.1). Results go to `out` (element_out_t),
@@ -256,11 +286,14 @@ contains
     real(dp), intent(out), optional :: hist_new(:,:)
     logical, intent(in), optional :: mean
     real(dp), allocatable :: dnx(:,:,:), dvol(:), h0(:,:), h1(:,:)
-    real(dp) :: d(3, 3)
-    integer :: nen, nh
+    real(dp) :: d(3, 3), d6(6, 6)
+    integer :: nen, nh, ndm
+    logical :: k3
     nen = shp%nen
     out%ierr = 0
     nh = mat%law%nhist
+    k3 = element_kind_kernel(etype) == KERNEL_SOLID3D
+    ndm = merge(3, 2, k3)
     if (present(hist_old)) then
       h0 = hist_old
     else
@@ -269,14 +302,23 @@ contains
     select case (task)
     case (TASK_MASS)
       call fit(out%s, nen, nen)
-      call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_mass(nen, shp, xl, mat%density, out%s, out%scalar, out%ierr)
+      else
+        call solid2d_mass(nen, shp, xl, mat%density, unit_thickness, out%s, out%scalar, out%ierr)
+      end if
     case (TASK_STIFFNESS)
-      call fit(out%s, 2*nen, 2*nen)
-      call mat%law%tangent_2d(d)
-      call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
+      call fit(out%s, ndm*nen, ndm*nen)
+      if (k3) then
+        call mat%law%tangent_3d(d6)
+        call solid3d_stiffness(nen, shp, xl, d6, out%s, out%ierr)
+      else
+        call mat%law%tangent_2d(d)
+        call solid2d_stiffness(nen, shp, xl, d, unit_thickness, out%s, out%ierr)
+      end if
     case (TASK_FORCE)
-      call fit(out%p, 2, nen)
-      allocate(dnx(2, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
+      call fit(out%p, ndm, nen)
+      allocate(dnx(ndm, nen, shp%ngp), dvol(shp%ngp), h1(nh, shp%ngp))
       call element_geometry(etype, shp, xl, dnx, dvol, out%ierr)
       if (out%ierr /= 0) return
       call element_force(etype, nen, shp%ngp, dnx, dvol, ul, mat%law, h0, h1, out%p, &
@@ -285,11 +327,23 @@ contains
     case (TASK_STRESS)
       call fit(out%sig, 6, shp%ngp)
       call fit(out%eps, 6, shp%ngp)
-      call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      if (k3) then
+        call solid3d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      else
+        call solid2d_stress(nen, shp, xl, ul, mat%law, h0, out%sig, out%ierr, out%eps, mean)
+      end if
     case (TASK_JACOBIAN)
-      call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      else
+        call solid2d_min_detj(nen, shp, xl, out%scalar, out%ierr)
+      end if
     case (TASK_ROTATION)
-      call solid2d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      if (k3) then
+        call solid3d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      else
+        call solid2d_rotation(nen, shp, xl, ul, out%scalar, out%ierr)
+      end if
     end select
   end subroutine element_routine
 
@@ -316,6 +370,8 @@ contains
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
       call solid2d_geometry(shp%nen, shp, xl, unit_thickness, dnx, dvol, ierr)
+    case (KERNEL_SOLID3D)
+      call solid3d_geometry(shp%nen, shp, xl, dnx, dvol, ierr)
     case default
       ierr = -1
     end select
@@ -336,6 +392,9 @@ contains
     select case (element_kind_kernel(etype))
     case (KERNEL_SOLID2D)
       call solid2d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr, &
+          mean)
+    case (KERNEL_SOLID3D)
+      call solid3d_force(nen, ngp, dnx, dvol, ul, law, hist_old, hist_new, f, energy, ierr, &
           mean)
     case default
       ierr = -1

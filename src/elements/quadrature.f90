@@ -1,9 +1,9 @@
-!> Gauss-Legendre quadrature on [-1, 1] and its tensor product on [-1, 1]^2.
+!> Gauss-Legendre quadrature on [-1, 1] and its tensor products on [-1, 1]^2 and [-1, 1]^3.
 module ictus_elements_quadrature
   use ictus_core_kinds, only: dp, pi
   implicit none
   private
-  public :: gauss_legendre, gauss_rule_2d
+  public :: gauss_legendre, gauss_rule_2d, gauss_rule_3d
 
 contains
 
@@ -76,4 +76,21 @@ contains
       end do
     end do
   end subroutine gauss_rule_2d
+
+  !> Tensor-product Gauss rule with n1, n2, n3 points in directions 1 (xi), 2 (eta), 3 (zeta).
+  !! xi(3, n1*n2*n3): points, direction 1 running fastest, then 2; w(n1*n2*n3): weights (sum 8).
+  pure subroutine gauss_rule_3d(n1, n2, n3, xi, w)
+    integer, intent(in) :: n1, n2, n3
+    real(dp), intent(out) :: xi(3, n1*n2*n3), w(n1*n2*n3)
+    real(dp) :: x2(2, n1*n2), w2(n1*n2), x3(n3), w3(n3)
+    integer :: k, l
+    call gauss_rule_2d(n1, n2, x2, w2)
+    call gauss_legendre(n3, x3, w3)
+    do l = 1, n3
+      k = (l - 1)*n1*n2
+      xi(1:2, k + 1:k + n1*n2) = x2
+      xi(3, k + 1:k + n1*n2) = x3(l)
+      w(k + 1:k + n1*n2) = w2*w3(l)
+    end do
+  end subroutine gauss_rule_3d
 end module ictus_elements_quadrature

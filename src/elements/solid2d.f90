@@ -6,8 +6,8 @@
 module ictus_elements_solid2d
   use ictus_core_kinds, only: dp
   use ictus_elements_types, only: elem_shape_t
-  use ictus_materials_law, only: law_t, voigt_of
-  use ictus_materials_eigen, only: sym_eigen3
+  use ictus_materials_law, only: law_t
+  use ictus_elements_solid_points, only: points_stress, point_mass, lowest_detj
   implicit none
   private
   public :: solid2d_stiffness, solid2d_mass, solid2d_stress, solid2d_min_detj, solid2d_volume, &
@@ -87,8 +87,8 @@ contains
     real(dp), intent(in) :: xl(2, nen), rho, thick
     real(dp), intent(out) :: me(nen, nen), mass_e
     integer, intent(out) :: ierr
-    real(dp) :: dnx(2, nen), detj, f
-    integer :: g, a
+    real(dp) :: dnx(2, nen), detj
+    integer :: g
     me = 0.0_dp
     mass_e = 0.0_dp
     ierr = 0
@@ -98,11 +98,7 @@ contains
         ierr = g
         return
       end if
-      f = rho*thick*detj*shp%w(g)
-      mass_e = mass_e + f
-      do a = 1, nen
-        me(:, a) = me(:, a) + f*shp%n(a, g)*shp%n(:, g)
-      end do
+      call point_mass(nen, shp%n(:, g), rho*thick*detj*shp%w(g), me, mass_e)
     end do
   end subroutine solid2d_mass
 
@@ -329,7 +325,7 @@ contains
   end function tensor_of2
 
   !> Cauchy stress of the material law at the quadrature points of shp.
-  !! eps (optional): the strain at the points (strain_of).
+  !! eps (optional): the strain at the points (strain_of of ictus_elements_solid_points).
   !! nen; shp; xl(2, nen); ul(2, nen): nodal displacements; law; hist(:, ngp): the
   !! history per point; sig(6, shp%ngp): (xx, yy, zz, xy, yz, zx) per point; ierr: 0, or the
   !! first point with det J <= 0.
@@ -343,20 +339,11 @@ contains
     integer, intent(out) :: ierr
     real(dp), intent(out), optional :: eps(6, shp%ngp)
     logical, intent(in), optional :: mean
-    real(dp) :: w, hist_new(size(hist, 1)), grad(3, 3, shp%ngp), dvol(shp%ngp), jac(shp%ngp)
-    real(dp) :: theta
-    integer :: g
+    real(dp) :: grad(3, 3, shp%ngp), dvol(shp%ngp)
     sig = 0.0_dp
     call point_gradients(nen, shp, xl, ul, grad, ierr, dvol)
     if (ierr /= 0) return
-    if (present(mean)) then
-      if (mean) call mean_dilatation(shp%ngp, grad, dvol, law%kin%nlgeom, jac, theta, ierr)
-      if (ierr /= 0) return
-    end if
-    do g = 1, shp%ngp
-      call law%stress(grad(:, :, g), hist(:, g), hist_new, sig(:, g), w)
-      if (present(eps)) eps(:, g) = strain_of(grad(:, :, g), law%kin%nlgeom)
-    end do
+    call points_stress(shp%ngp, grad, dvol, law, hist, sig, ierr, mean_dilatation, eps, mean)
   end subroutine solid2d_stress
 
   !> The displacement gradient grad(3, 3, ngp) at every quadrature point of shp; ierr: 0, or
@@ -383,31 +370,6 @@ contains
       if (present(dvol)) dvol(g) = detj*shp%w(g)
     end do
   end subroutine point_gradients
-
-  !> The strain tensor (xx, yy, zz, xy, yz, zx; tensor shears) of a displacement gradient:
-  !! (grad + grad^T)/2 in small strain, the logarithmic strain ln V = ln(F F^T)/2 with NLGEOM.
-  pure function strain_of(grad, nlgeom) result(eps)
-    real(dp), intent(in) :: grad(3, 3)
-    logical, intent(in) :: nlgeom
-    real(dp) :: eps(6)
-    real(dp) :: f(3, 3), b(3, 3), lam(3), v(3, 3), e(3, 3)
-    integer :: i
-    if (.not. nlgeom) then
-      eps = voigt_of(0.5_dp*(grad + transpose(grad)))
-      return
-    end if
-    f = grad
-    do i = 1, 3
-      f(i, i) = f(i, i) + 1.0_dp
-    end do
-    b = matmul(f, transpose(f))
-    call sym_eigen3(b, lam, v)
-    e = 0.0_dp
-    do i = 1, 3
-      e = e + 0.5_dp*log(lam(i))*spread(v(:, i), 2, 3)*spread(v(:, i), 1, 3)
-    end do
-    eps = voigt_of(e)
-  end function strain_of
 
   !> Largest infinitesimal rotation |du_y/dx - du_x/dy| / 2 over the quadrature points of shp
   !! (what small-strain kinematics mistake for strain when it grows: the small-strain guard).
@@ -436,23 +398,13 @@ contains
     real(dp), intent(in) :: xl(2, nen)
     real(dp), intent(out) :: detj_min
     integer, intent(out) :: igp
-    real(dp) :: dnx(2, nen), detj
+    real(dp) :: dnx(2, nen), detj(shp%ngp)
     integer :: g
-    detj_min = huge(1.0_dp)
-    igp = 0
     do g = 1, shp%ngp
-      call jacobian(nen, shp, xl, g, detj, dnx)
-      if (.not. abs(detj) <= huge(1.0_dp)) then
-        ! NaN or infinite (coordinates too large to square): returned as it is
-        detj_min = detj
-        igp = g
-        return
-      end if
-      if (detj < detj_min) then
-        detj_min = detj
-        igp = g
-      end if
+      call jacobian(nen, shp, xl, g, detj(g), dnx)
     end do
+    ! a NaN or infinite det J (coordinates too large to square) is returned as it is
+    call lowest_detj(shp%ngp, detj, detj_min, igp)
   end subroutine solid2d_min_detj
 
   !> Element volume: area times thickness, sum_g det J w_g thick (signed: an inverted element

@@ -12,7 +12,7 @@ module ictus_io_deck_model
   use ictus_io_deck_lexer, only: token_t, line_where, split_values, parse_int, shown, &
       collapse_blanks
   use ictus_elements_library, only: element_type_named, element_types_named, &
-      element_abaqus_names, element_default_ngauss
+      element_abaqus_names, element_default_ngauss, etype_ndm
   use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
       where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, etype_nen, etype_name, SET_NODE, &
       SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
@@ -297,15 +297,24 @@ contains
     end if
     b%type_name = upper(collapse_blanks(v))
     call element_type_named(b%type_name, b%etype, b%analysis, gauss)
+    ! the element library has the hexahedra (C3D8, C3D20, C3D27), the model not yet (issue
+    ! #30): the deck refuses them as any other unknown name
+    if (b%etype > 0) then
+      if (etype_ndm(b%etype) /= 2) then
+        b%etype = 0
+        b%analysis = 0
+        gauss = 0
+      end if
+    end if
     if (b%etype > 0) then
       b%nen = etype_nen(b%etype)
     else if (b%type_name == 'T3D2' .or. b%type_name == 'T3D3') then
       b%nen = merge(2, 3, b%type_name == 'T3D2')
     else
       call card_error(c, 'bad value TYPE='//shown(v)//' (expected one of '// &
-          element_types_named()//'; or the Abaqus names '//element_abaqus_names()//'; ictus has '// &
-          'no triangles, axisymmetric, 3D, beam or shell elements; line elements T3D2, '// &
-          'T3D3 are read as sets of boundary nodes)')
+          element_types_named(2)//'; or the Abaqus names '//element_abaqus_names(2)// &
+          '; ictus has no triangles, axisymmetric, 3D, beam or shell elements; line '// &
+          'elements T3D2, T3D3 are read as sets of boundary nodes)')
     end if
   end subroutine get_element_type
 

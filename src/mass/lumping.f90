@@ -1,6 +1,7 @@
 !> Diagonal (lumped) element mass matrices from the scalar consistent mass (doc/theory.md §3).
 !!
-!! All routines work on the scalar mass per node; the same value applies to x and y.
+!! All routines work on the scalar mass per node of any element (2D or 3D); the same value
+!! applies to every displacement component.
 module ictus_mass_lumping
   use ictus_core_kinds, only: dp
   implicit none

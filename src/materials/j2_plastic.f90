@@ -14,7 +14,7 @@
 !! of sigma_eq d epbar: the dissipation of the energy balance).
 module ictus_materials_j2_plastic
   use ictus_core_kinds, only: dp
-  use ictus_materials_law, only: law_t, voigt_of, tensor_of, det3, stress_norm
+  use ictus_materials_law, only: law_t, voigt_of, tensor_of, det3, adjugate3, stress_norm
   use ictus_materials_elastic, only: elastic_dmat, wave_speed_p
   use ictus_materials_eigen, only: sym_eigen3
   implicit none
@@ -210,16 +210,7 @@ contains
   pure function inverse3(a, d) result(b)
     real(dp), intent(in) :: a(3, 3), d
     real(dp) :: b(3, 3)
-    b(1, 1) = a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)
-    b(1, 2) = a(1, 3)*a(3, 2) - a(1, 2)*a(3, 3)
-    b(1, 3) = a(1, 2)*a(2, 3) - a(1, 3)*a(2, 2)
-    b(2, 1) = a(2, 3)*a(3, 1) - a(2, 1)*a(3, 3)
-    b(2, 2) = a(1, 1)*a(3, 3) - a(1, 3)*a(3, 1)
-    b(2, 3) = a(1, 3)*a(2, 1) - a(1, 1)*a(2, 3)
-    b(3, 1) = a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1)
-    b(3, 2) = a(1, 2)*a(3, 1) - a(1, 1)*a(3, 2)
-    b(3, 3) = a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1)
-    b = b/d
+    b = adjugate3(a)/d
   end function inverse3
 
   !> The elastic dilatational wave speed (plasticity only softens).

@@ -8,7 +8,7 @@
 !! no state of its own, so a law with history stores it in the state of the run (and so in
 !! checkpoints) through `nhist`. `wave_speed` gives the dilatational wave speed that bounds
 !! the stable time step at the start, `wave_ratio` how much faster the waves run in the
-!! current state (finite strain: the stable step follows it during the run), and `tangent_2d` the small-strain tangent at the reference state; a
+!! current state (finite strain: the stable step follows it during the run), and `tangent_2d` the small-strain tangent at the reference state (`tangent_3d` its 3D form); a
 !! `linear` law's tangent is exact everywhere, so its internal force may be the assembled
 !! product K u (doc/theory.md).
 !!
@@ -20,7 +20,7 @@ module ictus_materials_law
   implicit none
   private
   public :: law_t, kinematics_t, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
-      voigt_strain, voigt_of, tensor_of, det3, stretch_measures, stress_norm
+      voigt_strain, voigt_of, tensor_of, det3, adjugate3, stretch_measures, stress_norm
 
   !> The kinematic idealisation a law is evaluated in.
   integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2, ANALYSIS_3D = 3
@@ -64,6 +64,8 @@ module ictus_materials_law
     procedure(law_wave_i), deferred :: wave_speed
     !> The tangent at the reference state in 2D Voigt order.
     procedure :: tangent_2d => law_tangent_2d
+    !> The tangent at the reference state in 3D Voigt order (from d2: isotropic laws).
+    procedure :: tangent_3d => law_tangent_3d
     !> c/c_0: the current dilatational wave speed (current density) over that of the
     !! reference state, for the stable step during a finite-strain run. The default
     !! holds for a law whose second Piola-Kirchhoff stress has a constant tangent (St.
@@ -104,6 +106,23 @@ contains
     real(dp), intent(out) :: d(3, 3)
     d = this%d2(:, :, merge(2, 1, this%kin%analysis == ANALYSIS_PLANE_STRESS))
   end subroutine law_tangent_2d
+
+  !> d(6, 6): the small-strain tangent at the reference state in 3D Voigt order (xx, yy, zz,
+  !! xy, yz, zx; engineering shears): the isotropic tangent whose normal entries lambda + 2 mu
+  !! and lambda and shear entry mu are those of the plane-strain tangent d2(:, :, 1). The
+  !! plane-strain tangent is the 3D one on the in-plane components, so this is exact for every
+  !! isotropic law (all of ictus's); an anisotropic law overrides it.
+  pure subroutine law_tangent_3d(this, d)
+    class(law_t), intent(in) :: this
+    real(dp), intent(out) :: d(6, 6)
+    integer :: i
+    d = 0.0_dp
+    d(1:3, 1:3) = this%d2(1, 2, 1)
+    do i = 1, 3
+      d(i, i) = this%d2(1, 1, 1)
+      d(i + 3, i + 3) = this%d2(3, 3, 1)
+    end do
+  end subroutine law_tangent_3d
 
   !> c/c_0 of a law whose tangent dS/dE is constant (doc/theory.md §7.1): in the current
   !! state the dilatational modulus is at most M = M_0 lam_max(b)^2/J + |sigma| (M_0 the
@@ -150,6 +169,21 @@ contains
     det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - &
         a(2, 3)*a(3, 1)) + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
   end function det3
+
+  !> The adjugate of a 3 x 3 matrix (the transposed cofactor matrix): adj(a) = det(a) a^-1.
+  pure function adjugate3(a) result(b)
+    real(dp), intent(in) :: a(3, 3)
+    real(dp) :: b(3, 3)
+    b(1, 1) = a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)
+    b(1, 2) = a(1, 3)*a(3, 2) - a(1, 2)*a(3, 3)
+    b(1, 3) = a(1, 2)*a(2, 3) - a(1, 3)*a(2, 2)
+    b(2, 1) = a(2, 3)*a(3, 1) - a(2, 1)*a(3, 3)
+    b(2, 2) = a(1, 1)*a(3, 3) - a(1, 3)*a(3, 1)
+    b(2, 3) = a(1, 3)*a(2, 1) - a(1, 1)*a(2, 3)
+    b(3, 1) = a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1)
+    b(3, 2) = a(1, 2)*a(3, 1) - a(1, 1)*a(3, 2)
+    b(3, 3) = a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1)
+  end function adjugate3
 
   !> The symmetric 3 x 3 tensor a in Voigt order (xx, yy, zz, xy, yz, zx), no factor 2.
   pure function voigt_of(a) result(v)

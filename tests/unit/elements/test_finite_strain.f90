@@ -22,6 +22,7 @@ program test_finite_strain
   use ictus_materials_law, only: kinematics_t, ANALYSIS_PLANE_STRAIN
   use ictus_materials_material, only: material_t, material_make_law
   use ictus_test_check, only: checker_t
+  use ictus_test_elements, only: svk_cauchy
   implicit none
   type(checker_t) :: t
   type(material_t) :: mats(3), lin
@@ -198,7 +199,7 @@ contains
     integer, intent(in) :: k
     real(dp), intent(in) :: f2(2, 2)
     real(dp), intent(out) :: sig(6)
-    real(dp) :: f(3, 3), e(3, 3), s(3, 3), b(3, 3), detf, lam, mu, tr, w, g(3, 3), h(8), h1(8)
+    real(dp) :: f(3, 3), s(3, 3), b(3, 3), detf, lam, mu, tr, w, g(3, 3), h(8), h1(8)
     integer :: i
     f = 0.0_dp
     f(1:2, 1:2) = f2
@@ -208,16 +209,7 @@ contains
     case (1)
       mu = e_mod/(2.0_dp*(1.0_dp + nu))
       lam = e_mod*nu/((1.0_dp + nu)*(1.0_dp - 2.0_dp*nu))
-      e = 0.5_dp*matmul(transpose(f), f)
-      do i = 1, 3
-        e(i, i) = e(i, i) - 0.5_dp
-      end do
-      tr = e(1, 1) + e(2, 2) + e(3, 3)
-      s = 2.0_dp*mu*e
-      do i = 1, 3
-        s(i, i) = s(i, i) + lam*tr
-      end do
-      s = matmul(matmul(f, s), transpose(f))/detf
+      s = svk_cauchy(lam, mu, f, detf)
     case (2)
       b = matmul(f, transpose(f))*detf**(-2.0_dp/3.0_dp)
       tr = (b(1, 1) + b(2, 2) + b(3, 3))/3.0_dp

@@ -2,10 +2,11 @@
 !! differences, polynomial reproduction, linear completeness on a curved element, faces.
 program test_lagrange
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t
-  use ictus_elements_library, only: etype_name, etype_nen
+  use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, elem_shape_t, element_kind_t
+  use ictus_elements_library, only: etype_name, etype_nen, element_kind
   use ictus_elements_lagrange, only: lagrange_shape, lagrange_shape_data, lagrange_face_nodes
   use ictus_test_check, only: checker_t
+  use ictus_test_elements, only: check_shape_functions
   implicit none
   type(checker_t) :: t
   integer, parameter :: types(3) = [ETYPE_Q4, ETYPE_Q8, ETYPE_Q9]
@@ -16,11 +17,12 @@ program test_lagrange
   !> Test points inside the parent square (and two on its boundary).
   real(dp), parameter :: pts(2, 6) = reshape([0.13_dp, -0.71_dp, -0.52_dp, 0.33_dp, &
       0.91_dp, 0.87_dp, -0.05_dp, 0.0_dp, 1.0_dp, 0.4_dp, -0.3_dp, -1.0_dp], [2, 6])
+  type(element_kind_t) :: kd
   integer :: k
   call t%start("elements/lagrange")
   do k = 1, 3
-    call case_unity_delta(t, types(k))
-    call case_fd(t, types(k))
+    kd = element_kind(types(k))
+    call check_shape_functions(t, etype_name(types(k)), kd%shape, xnode(:, 1:kd%nen), pts)
     call case_reproduction(t, types(k))
     call case_curved_linear(t, types(k))
     call case_shape_data(t, types(k))
@@ -29,54 +31,6 @@ program test_lagrange
   call t%finish()
 
 contains
-
-  subroutine case_unity_delta(t, et)
-    type(checker_t), intent(inout) :: t
-    integer, intent(in) :: et
-    real(dp) :: n(9), dn(2, 9)
-    integer :: nen, p, a, b
-    nen = etype_nen(et)
-    do p = 1, size(pts, 2)
-      call lagrange_shape(et, pts(:, p), n(1:nen), dn(:, 1:nen))
-      call t%close(sum(n(1:nen)), 1.0_dp, 1.0e-15_dp, etype_name(et)//' sum N = 1')
-      call t%close_abs(sum(dn(1, 1:nen)), 0.0_dp, 1.0e-14_dp, etype_name(et)//' sum dN/dxi = 0')
-      call t%close_abs(sum(dn(2, 1:nen)), 0.0_dp, 1.0e-14_dp, etype_name(et)//' sum dN/deta = 0')
-    end do
-    do b = 1, nen
-      call lagrange_shape(et, xnode(:, b), n(1:nen), dn(:, 1:nen))
-      do a = 1, nen
-        if (a == b) then
-          call t%close_abs(n(a), 1.0_dp, 1.0e-15_dp, etype_name(et)//' N_A(x_A) = 1')
-        else
-          call t%close_abs(n(a), 0.0_dp, 1.0e-15_dp, etype_name(et)//' N_A(x_B) = 0')
-        end if
-      end do
-    end do
-  end subroutine case_unity_delta
-
-  !> Central differences, step 1e-5: truncation ~1e-10 for these polynomials.
-  subroutine case_fd(t, et)
-    type(checker_t), intent(inout) :: t
-    integer, intent(in) :: et
-    real(dp), parameter :: h = 1.0e-5_dp
-    real(dp) :: n(9), dn(2, 9), np(9), nm(9), dd(2, 9), x(2)
-    integer :: nen, p, a, i
-    nen = etype_nen(et)
-    do p = 1, size(pts, 2)
-      call lagrange_shape(et, pts(:, p), n(1:nen), dn(:, 1:nen))
-      do i = 1, 2
-        x = pts(:, p)
-        x(i) = x(i) + h
-        call lagrange_shape(et, x, np(1:nen), dd(:, 1:nen))
-        x(i) = x(i) - 2.0_dp*h
-        call lagrange_shape(et, x, nm(1:nen), dd(:, 1:nen))
-        do a = 1, nen
-          call t%close_abs(dn(i, a), (np(a) - nm(a))/(2.0_dp*h), 1.0e-9_dp, &
-              etype_name(et)//' dN vs central difference')
-        end do
-      end do
-    end do
-  end subroutine case_fd
 
   !> Each element interpolates exactly the monomials of its space: Q4 {1, xi, eta, xi eta};
   !! Q8 adds xi^2, eta^2, xi^2 eta, xi eta^2; Q9 adds xi^2 eta^2. The derivative of the

@@ -1,13 +1,15 @@
-!> Gauss-Legendre rules: exactness for degree 2n-1, failure at degree 2n, weights, 2D ordering.
+!> Gauss-Legendre rules: exactness for degree 2n-1, failure at degree 2n, weights, 2D and 3D
+!! ordering and exactness.
 program test_quadrature
   use ictus_core_kinds, only: dp
-  use ictus_elements_quadrature, only: gauss_legendre, gauss_rule_2d
+  use ictus_elements_quadrature, only: gauss_legendre, gauss_rule_2d, gauss_rule_3d
   use ictus_test_check, only: checker_t
   implicit none
   type(checker_t) :: t
   call t%start("elements/quadrature")
   call case_1d(t)
   call case_2d(t)
+  call case_3d(t)
   call t%finish()
 
 contains
@@ -75,4 +77,27 @@ contains
       end do
     end do
   end subroutine case_2d
+
+  !> The 2x3x4 rule: weights sum to 8, xi fastest then eta, exact for x^a y^b z^c with
+  !! a <= 3, b <= 5, c <= 7, and not for z^8.
+  subroutine case_3d(t)
+    type(checker_t), intent(inout) :: t
+    real(dp) :: xi(3, 24), w(24)
+    integer :: a, b, c
+    character(len=40) :: lab
+    call gauss_rule_3d(2, 3, 4, xi, w)
+    call t%close(sum(w), 8.0_dp, 1.0e-14_dp, '3d weights sum')
+    call t%true(xi(2, 1) == xi(2, 2) .and. xi(3, 1) == xi(3, 6) .and. xi(1, 1) < xi(1, 2) .and. &
+        xi(2, 1) < xi(2, 3) .and. xi(3, 6) < xi(3, 7), '3d ordering')
+    do c = 0, 7
+      do b = 0, 5
+        do a = 0, 3
+          write(lab, '(a,i0,a,i0,a,i0)') '3d exact x^', a, ' y^', b, ' z^', c
+          call t%close_abs(sum(w*xi(1, :)**a*xi(2, :)**b*xi(3, :)**c), &
+              moment(a)*moment(b)*moment(c), 1.0e-14_dp, trim(lab))
+        end do
+      end do
+    end do
+    call t%true(abs(sum(w*xi(3, :)**8) - 4.0_dp*moment(8)) > 1.0e-7_dp, '3d inexact z^8')
+  end subroutine case_3d
 end program test_quadrature
