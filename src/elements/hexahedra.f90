@@ -6,9 +6,9 @@
 !!    (1,1,-1), (-1,1,-1); corners 5-8 above them on zeta = +1;
 !!  - midsides (C3D20, C3D27) 9-12 on the edges 1-2, 2-3, 3-4, 4-1; 13-16 on 5-6, 6-7, 7-8,
 !!    8-5; 17-20 on 1-5, 2-6, 3-7, 4-8;
-!!  - (C3D27) face centres 21-26 on the faces S1..S6, then the centre 27. The search for the
-!!    Abaqus manual's own C3D27 figure found nothing, so this order (faces in the order S1..S6,
-!!    then the centre) is the one chosen here; Exodus II's HEX27 puts the centre first.
+!!  - (C3D27) the centre 21, then the face centres 22-27 on the faces S1..S6: the order in
+!!    which gmsh writes C3D27 into Abaqus decks (checked against its export of a cube,
+!!    tests/scripts/check_quarter_ball.py), so that gmsh meshes read as they are.
 !!
 !! Faces in the Abaqus numbering: S1 (corners 1-2-3-4, zeta = -1), S2 (5-8-7-6, zeta = 1),
 !! S3 (1-5-6-2, eta = -1), S4 (2-6-7-3, xi = 1), S5 (3-7-8-4, eta = 1), S6 (4-8-5-1,
@@ -48,7 +48,7 @@ module ictus_elements_hexahedra
 
   !> XDMF (VTK) order of the 27 nodes: XDMF node k is local node xdmf27(k).
   integer, parameter :: xdmf27(27) = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, &
-      17, 18, 19, 20, 26, 24, 23, 25, 21, 22, 27]
+      17, 18, 19, 20, 27, 25, 24, 26, 22, 23, 21]
 
 contains
 
@@ -92,7 +92,7 @@ contains
       do i = 1, 4
         k%face(4 + i, f) = edge_node(face_corners(i, f), face_corners(mod(i, 4) + 1, f))
       end do
-      if (centre) k%face(9, f) = 20 + f
+      if (centre) k%face(9, f) = 21 + f
     end do
   end function hex_kind
 
@@ -118,8 +118,8 @@ contains
       xa = corner_xi(:, a)
     else if (a <= 20) then
       xa = 0.5_dp*(corner_xi(:, edge_corners(1, a - 8)) + corner_xi(:, edge_corners(2, a - 8)))
-    else if (a <= 26) then
-      f = a - 20
+    else if (a >= 22) then
+      f = a - 21
       xa = 0.0_dp
       do i = 1, 4
         xa = xa + 0.25_dp*corner_xi(:, face_corners(i, f))

@@ -215,7 +215,8 @@ contains
         'face centre', 'centre']
     integer :: a, k
     do a = 1, size(ml)
-      k = merge(1, merge(2, merge(3, 4, a <= 26), a <= 20), a <= 8)
+      ! C3D27: node 21 the centre, 22-27 the face centres
+      k = merge(1, merge(2, merge(4, 3, a == 21), a <= 20), a <= 8)
       call t%close_abs(ml(a)/m, fr(k), 1.0e-14_dp, label//' '//trim(grp(k)))
     end do
   end subroutine check_fractions3
