@@ -29,8 +29,8 @@ module ictus_contact_mortar
       surface_curves, curve_point, curve_geometry, CURVE_SAMPLES, SEG_LAGRANGE
   use ictus_contact_pair, only: contact_pair_t, mortar_t, pair_reset_results, update_grid, &
       closest_point, coulomb, point_increment, PAIR_TIE
-  use ictus_contact_projection, only: projection_t, project_on_curve, PROJ_INTERIOR, &
-      PROJ_CORNER, PROJ_OUTSIDE, SEG_INTERIOR, PROJ_NONE
+  use ictus_contact_projection, only: projection_t, project_on_curve, project_point, &
+      PROJ_INTERIOR, PROJ_CORNER, PROJ_OUTSIDE, SEG_INTERIOR, PROJ_NONE
   use ictus_contact_search, only: grid_query
   implicit none
   private
@@ -87,8 +87,15 @@ contains
             t = cut(k) + 0.5_dp*h*(1.0_dp + xi(q))
             call curve_geometry(s1%ref(s), t, xr, x1, x2)
             call curve_point(pair%curves_first(s), t, xq)
-            call closest_point(s2, pair%grid_second, pair%curves_second, xq, pair%cand, pr, &
-                nf)
+            ! the points of a piece face one master segment: from the second point on,
+            ! the previous point's segment (and a walk to its neighbours) is the candidate;
+            ! the global search where that does not give an interior point
+            nf = 0
+            pr%status = PROJ_NONE
+            if (q > 1 .and. mo%status(i - 1) == PROJ_INTERIOR) call project_point(s2, &
+                pair%curves_second, xq, [mo%mseg(i - 1)], 1, pr, nf)
+            if (pr%status /= PROJ_INTERIOR) call closest_point(s2, pair%grid_second, &
+                pair%curves_second, xq, pair%cand, pr, nf)
             pair%failures = pair%failures + nf
             mo%sseg(i) = s
             mo%ts(i) = t
