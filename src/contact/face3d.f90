@@ -1,11 +1,16 @@
 !> Contact surfaces in 3D: quadrilateral faces of hexahedra (4-node bilinear, 8-node
 !! serendipity, 9-node Lagrange; the face lists of element_kind_t%face, corners ordered so
-!! that the right-hand rule gives the outward normal), their Gauss points and nodal weights,
-!! and the closest-point projection of a point onto them (doc/contact.md §9).
+!! that the right-hand rule gives the outward normal) and rational Bezier faces (one knot span
+!! of a NURBS surface: degrees p1, p2, its 1D extraction operators and weights), their Gauss
+!! points and nodal weights, and the closest-point projection of a point onto them
+!! (doc/contact.md §9).
 !!
-!! A face is parametrised on [-1, 1]^2 with the shape functions of the quadrilaterals Q4, Q8,
-!! Q9 (ictus_elements_lagrange: corners, then the midsides of the sides 1-2, 2-3, 3-4, 4-1,
-!! then the centre); its outward normal is n = a1 x a2/|a1 x a2|, a_i = dx/dxi_i.
+!! A face is parametrised on [-1, 1]^2: a Lagrange face with the shape functions of the
+!! quadrilaterals Q4, Q8, Q9 (ictus_elements_lagrange: corners, then the midsides of the sides
+!! 1-2, 2-3, 3-4, 4-1, then the centre); a Bezier face with R_A = w_A N_A / sum_B w_B N_B,
+!! N_(i,j) = sum_k C1(i, k) B_k(u) sum_l C2(j, l) B_l(v), u = (1 + xi)/2, v = (1 + eta)/2,
+!! control points i fastest. Its outward normal is n = a1 x a2/|a1 x a2|, a_i = dx/dxi_i (the
+!! Bezier faces of a surface must be oriented so).
 !!
 !! Projection onto one face: minimise |x_s - x(xi)|^2 by Gauss-Newton steps on
 !! f_i = (x_s - x).a_i = 0 with H_ij = a_i.a_j (the Hessian without the curvature term
@@ -21,10 +26,14 @@ module ictus_contact_face3d
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
   use ictus_elements_lagrange, only: lagrange_shape
   use ictus_elements_quadrature, only: gauss_legendre
+  use ictus_geometry_bezier, only: bernstein
   implicit none
   private
   public :: surface3d_t, surface3d_init, face_shape, face_geometry, face_bbox, &
-      projection3d_t, project3d, P3_NONE, P3_INTERIOR, P3_CORNER, P3_OUTSIDE
+      projection3d_t, project3d, P3_NONE, P3_INTERIOR, P3_CORNER, P3_OUTSIDE, MAX_FACE_NODES
+
+  !> Most nodes of a face: a bicubic Bezier face.
+  integer, parameter :: MAX_FACE_NODES = 16
 
   !> Outcome of a projection: no candidate, interior point of a face, on a fold between two
   !! faces, beyond the surface's boundary.
@@ -35,16 +44,22 @@ module ictus_contact_face3d
   real(dp), parameter :: tol = 1.0e-13_dp
 
   type :: surface3d_t
-    !> Faces: nodes per face (4, 8 or 9), global nodes (9, nface).
+    !> Faces: nodes per face (Lagrange 4, 8 or 9; Bezier (p1 + 1)(p2 + 1)), global nodes
+    !! (MAX_FACE_NODES, nface).
     integer :: nface = 0
     integer, allocatable :: nen(:)
     integer, allocatable :: conn(:,:)
+    !> Bezier faces: degrees (2, nface; 0 for Lagrange faces), 1D extraction operators
+    !! (4, 4, nface) in each direction and weights (MAX_FACE_NODES, nface).
+    integer, allocatable :: deg(:,:)
+    real(dp), allocatable :: ext1(:,:,:), ext2(:,:,:), wgt(:,:)
     !> Neighbour face across each side (4, nface; 0 on the boundary of the surface).
     integer, allocatable :: nbr(:,:)
-    !> Distinct nodes (nsn) and each face node's position in them (9, nface).
+    !> Distinct nodes (nsn) and each face node's position in them (MAX_FACE_NODES, nface).
     integer :: nsn = 0
     integer, allocatable :: nodes(:), lnode(:,:)
-    !> Gauss points: face, parent point (2), reference weight w J, shape values (9).
+    !> Gauss points: face, parent point (2), reference weight w J, shape values
+    !! (MAX_FACE_NODES).
     integer :: ngp = 0
     integer, allocatable :: gp_face(:)
     real(dp), allocatable :: gp_xi(:,:), gp_wj(:), gp_r(:,:)
@@ -75,12 +90,44 @@ contains
     if (nen == 9) quad_type = ETYPE_Q9
   end function quad_type
 
-  !> Shape values r(nen) and parent derivatives dr(2, nen) of a face of nen nodes at xi.
-  pure subroutine face_shape(nen, xi, r, dr)
-    integer, intent(in) :: nen
+  !> Shape values r(nen) and parent derivatives dr(2, nen) of face f of s at xi.
+  pure subroutine face_shape(s, f, xi, r, dr)
+    type(surface3d_t), intent(in) :: s
+    integer, intent(in) :: f
     real(dp), intent(in) :: xi(2)
     real(dp), intent(out) :: r(:), dr(:,:)
-    call lagrange_shape(quad_type(nen), xi, r, dr)
+    real(dp) :: b1(4), db1(4), b2(4), db2(4), n1(4), dn1(4), n2(4), dn2(4), w, dw(2), nw
+    integer :: p1, p2, i, j, a
+    if (s%deg(1, f) == 0) then
+      call lagrange_shape(quad_type(s%nen(f)), xi, r, dr)
+      return
+    end if
+    p1 = s%deg(1, f)
+    p2 = s%deg(2, f)
+    call bernstein(p1, 0.5_dp*(1.0_dp + xi(1)), b1(1:p1 + 1), db1(1:p1 + 1))
+    call bernstein(p2, 0.5_dp*(1.0_dp + xi(2)), b2(1:p2 + 1), db2(1:p2 + 1))
+    ! d/dxi = d/du / 2
+    n1(1:p1 + 1) = matmul(s%ext1(1:p1 + 1, 1:p1 + 1, f), b1(1:p1 + 1))
+    dn1(1:p1 + 1) = 0.5_dp*matmul(s%ext1(1:p1 + 1, 1:p1 + 1, f), db1(1:p1 + 1))
+    n2(1:p2 + 1) = matmul(s%ext2(1:p2 + 1, 1:p2 + 1, f), b2(1:p2 + 1))
+    dn2(1:p2 + 1) = 0.5_dp*matmul(s%ext2(1:p2 + 1, 1:p2 + 1, f), db2(1:p2 + 1))
+    w = 0.0_dp
+    dw = 0.0_dp
+    do j = 1, p2 + 1
+      do i = 1, p1 + 1
+        a = i + (p1 + 1)*(j - 1)
+        nw = s%wgt(a, f)
+        r(a) = nw*n1(i)*n2(j)
+        dr(1, a) = nw*dn1(i)*n2(j)
+        dr(2, a) = nw*n1(i)*dn2(j)
+        w = w + r(a)
+        dw = dw + dr(:, a)
+      end do
+    end do
+    do a = 1, s%nen(f)
+      dr(:, a) = (dr(:, a) - r(a)*dw/w)/w
+      r(a) = r(a)/w
+    end do
   end subroutine face_shape
 
   !> Point xp, tangents a(3, 2) and unit normal n of face f at xi on the coordinates x (3, nn);
@@ -90,9 +137,9 @@ contains
     integer, intent(in) :: f
     real(dp), intent(in) :: x(:,:), xi(2)
     real(dp), intent(out) :: xp(3), a(3, 2), n(3), jac
-    real(dp) :: r(9), dr(2, 9)
+    real(dp) :: r(MAX_FACE_NODES), dr(2, MAX_FACE_NODES)
     integer :: k, g
-    call face_shape(s%nen(f), xi, r, dr)
+    call face_shape(s, f, xi, r, dr)
     xp = 0.0_dp
     a = 0.0_dp
     do k = 1, s%nen(f)
@@ -127,25 +174,41 @@ contains
       box(1:3) = min(box(1:3), x(:, s%conn(k, f)))
       box(4:6) = max(box(4:6), x(:, s%conn(k, f)))
     end do
+    ! a Bezier face lies in the hull of its control points (positive weights); a quadratic
+    ! Lagrange face may bulge beyond its nodes
     ext = 0.0_dp
-    if (s%nen(f) > 4) ext = 0.25_dp*(box(4:6) - box(1:3))
+    if (s%deg(1, f) == 0 .and. s%nen(f) > 4) ext = 0.25_dp*(box(4:6) - box(1:3))
     box(1:3) = box(1:3) - ext - grow
     box(4:6) = box(4:6) + ext + grow
   end subroutine face_bbox
 
   !> Sets up a surface from faces: nodes per face nens(nface), global nodes conn(:, nface)
-  !! (outward corner order), reference coordinates x0 (3, nn); ng Gauss points per direction
-  !! (default 2 on 4-node faces, 3 on 8- and 9-node faces).
-  subroutine surface3d_init(s, nens, conn, x0, ng)
+  !! (Lagrange faces: outward corner order), reference coordinates x0 (3, nn); ng Gauss
+  !! points per direction (default: 2 on 4-node faces, 3 on 8- and 9-node faces, p + 1 on
+  !! Bezier faces). Bezier faces (optional, all faces): degrees deg(2, nface), 1D extraction
+  !! operators ext1, ext2 (:, :, nface) and weights wgt(:, nface).
+  subroutine surface3d_init(s, nens, conn, x0, ng, deg, ext1, ext2, wgt)
     type(surface3d_t), intent(out) :: s
     integer, intent(in) :: nens(:), conn(:,:)
     real(dp), intent(in) :: x0(:,:)
-    integer, intent(in), optional :: ng
+    integer, intent(in), optional :: ng, deg(:,:)
+    real(dp), intent(in), optional :: ext1(:,:,:), ext2(:,:,:), wgt(:,:)
     integer, allocatable :: pos(:)
-    integer :: f, k, g
+    integer :: f, k, g, nm
     s%nface = size(nens)
     s%nen = nens
-    allocate(s%conn(9, s%nface), s%lnode(9, s%nface), s%nodes(9*s%nface))
+    nm = MAX_FACE_NODES
+    allocate(s%conn(nm, s%nface), s%lnode(nm, s%nface), s%nodes(nm*s%nface))
+    allocate(s%deg(2, s%nface), source=0)
+    allocate(s%ext1(4, 4, s%nface), s%ext2(4, 4, s%nface), s%wgt(nm, s%nface), source=0.0_dp)
+    if (present(deg)) then
+      s%deg = deg
+      do f = 1, s%nface
+        s%ext1(1:deg(1, f) + 1, 1:deg(1, f) + 1, f) = ext1(1:deg(1, f) + 1, 1:deg(1, f) + 1, f)
+        s%ext2(1:deg(2, f) + 1, 1:deg(2, f) + 1, f) = ext2(1:deg(2, f) + 1, 1:deg(2, f) + 1, f)
+        s%wgt(1:nens(f), f) = wgt(1:nens(f), f)
+      end do
+    end if
     s%conn = 0
     s%lnode = 0
     allocate(pos(size(x0, 2)), source=0)
@@ -162,49 +225,77 @@ contains
       end do
     end do
     s%nodes = s%nodes(1:s%nsn)
-    call link_faces(s)
+    call link_faces(s, x0)
     call setup_gauss(s, x0, ng)
   end subroutine surface3d_init
 
-  !> Neighbours across the sides: two faces share a side when they share its two corners.
-  subroutine link_faces(s)
+  !> The corner points (3, 4) of face f on x, at xi = (-1,-1), (1,-1), (1,1), (-1,1): side c
+  !! runs from corner c to corner c + 1.
+  pure subroutine face_corners(s, f, x, xc)
+    type(surface3d_t), intent(in) :: s
+    integer, intent(in) :: f
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(out) :: xc(3, 4)
+    real(dp), parameter :: xi(2, 4) = reshape([-1.0_dp, -1.0_dp, 1.0_dp, -1.0_dp, 1.0_dp, &
+        1.0_dp, -1.0_dp, 1.0_dp], [2, 4])
+    real(dp) :: a(3, 2), n(3), jac
+    integer :: c
+    do c = 1, 4
+      call face_geometry(s, f, x, xi(:, c), xc(:, c), a, n, jac)
+    end do
+  end subroutine face_corners
+
+  !> Neighbours across the sides: two faces share a side when its two end points coincide
+  !! (to 1e-8 of the face sizes; the corner points of Bezier faces are not control points).
+  subroutine link_faces(s, x0)
     type(surface3d_t), intent(inout) :: s
-    integer :: f, e, f2, e2, a, b
+    real(dp), intent(in) :: x0(:,:)
+    real(dp), allocatable :: xc(:,:,:)
+    real(dp) :: tol, p1(3), p2(3), q1(3), q2(3)
+    integer :: f, e, f2, e2
     allocate(s%nbr(4, s%nface), source=0)
+    allocate(xc(3, 4, s%nface))
+    do f = 1, s%nface
+      call face_corners(s, f, x0, xc(:, :, f))
+      s%hmax = max(s%hmax, norm2(xc(:, 3, f) - xc(:, 1, f)), norm2(xc(:, 4, f) - xc(:, 2, f)))
+    end do
+    tol = 1.0e-8_dp*s%hmax
     do f = 1, s%nface
       do e = 1, 4
-        a = s%conn(e, f)
-        b = s%conn(mod(e, 4) + 1, f)
+        p1 = xc(:, e, f)
+        p2 = xc(:, mod(e, 4) + 1, f)
         do f2 = 1, s%nface
           if (f2 == f) cycle
           do e2 = 1, 4
-            if ((s%conn(e2, f2) == b .and. s%conn(mod(e2, 4) + 1, f2) == a) .or. &
-                (s%conn(e2, f2) == a .and. s%conn(mod(e2, 4) + 1, f2) == b)) s%nbr(e, f) = f2
+            q1 = xc(:, e2, f2)
+            q2 = xc(:, mod(e2, 4) + 1, f2)
+            if ((norm2(p1 - q2) <= tol .and. norm2(p2 - q1) <= tol) .or. &
+                (norm2(p1 - q1) <= tol .and. norm2(p2 - q2) <= tol)) s%nbr(e, f) = f2
           end do
         end do
       end do
     end do
   end subroutine link_faces
 
-  !> Gauss points with reference weights, nodal weights l_A and face diameters.
+  !> Gauss points with reference weights and the nodal weights l_A.
   subroutine setup_gauss(s, x0, ng)
     type(surface3d_t), intent(inout) :: s
     real(dp), intent(in) :: x0(:,:)
     integer, intent(in), optional :: ng
-    real(dp) :: gx(8), gw(8), xp(3), a(3, 2), n(3), jac, r(9), dr(2, 9)
+    real(dp) :: gx(8), gw(8), xp(3), a(3, 2), n(3), jac, r(MAX_FACE_NODES), &
+        dr(2, MAX_FACE_NODES)
     integer :: f, i, j, m, q, k
-    allocate(s%gp_face(0), s%gp_xi(2, 0), s%gp_wj(0), s%gp_r(9, 0))
     s%ngp = 0
     do f = 1, s%nface
-      s%ngp = s%ngp + nrule(s%nen(f), ng)**2
+      s%ngp = s%ngp + nrule(s, f, ng)**2
     end do
-    deallocate(s%gp_face, s%gp_xi, s%gp_wj, s%gp_r)
-    allocate(s%gp_face(s%ngp), s%gp_xi(2, s%ngp), s%gp_wj(s%ngp), s%gp_r(9, s%ngp))
+    allocate(s%gp_face(s%ngp), s%gp_xi(2, s%ngp), s%gp_wj(s%ngp), &
+        s%gp_r(MAX_FACE_NODES, s%ngp))
     allocate(s%ell(s%nsn), source=0.0_dp)
     s%gp_r = 0.0_dp
     q = 0
     do f = 1, s%nface
-      m = nrule(s%nen(f), ng)
+      m = nrule(s, f, ng)
       call gauss_legendre(m, gx(1:m), gw(1:m))
       do j = 1, m
         do i = 1, m
@@ -213,23 +304,24 @@ contains
           s%gp_xi(:, q) = [gx(i), gx(j)]
           call face_geometry(s, f, x0, s%gp_xi(:, q), xp, a, n, jac)
           s%gp_wj(q) = gw(i)*gw(j)*jac
-          call face_shape(s%nen(f), s%gp_xi(:, q), r, dr)
+          call face_shape(s, f, s%gp_xi(:, q), r, dr)
           s%gp_r(1:s%nen(f), q) = r(1:s%nen(f))
           do k = 1, s%nen(f)
             s%ell(s%lnode(k, f)) = s%ell(s%lnode(k, f)) + r(k)*s%gp_wj(q)
           end do
         end do
       end do
-      s%hmax = max(s%hmax, norm2(x0(:, s%conn(3, f)) - x0(:, s%conn(1, f))), &
-          norm2(x0(:, s%conn(4, f)) - x0(:, s%conn(2, f))))
     end do
   end subroutine setup_gauss
 
-  !> Gauss points per direction of a face of nen nodes (ng if given).
-  pure integer function nrule(nen, ng)
-    integer, intent(in) :: nen
+  !> Gauss points per direction of face f (ng if given): 2 on 4-node faces, 3 on 8- and
+  !! 9-node faces, the larger degree + 1 on Bezier faces.
+  pure integer function nrule(s, f, ng)
+    type(surface3d_t), intent(in) :: s
+    integer, intent(in) :: f
     integer, intent(in), optional :: ng
-    nrule = merge(2, 3, nen == 4)
+    nrule = merge(2, 3, s%nen(f) == 4)
+    if (s%deg(1, f) > 0) nrule = maxval(s%deg(:, f)) + 1
     if (present(ng)) nrule = min(max(ng, 1), 8)
   end function nrule
 

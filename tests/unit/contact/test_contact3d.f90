@@ -10,7 +10,10 @@
 !!   distance delta along the exact normal project back with d = delta (1e-11).
 !! * A point beyond the surface's boundary and behind it is outside; a point over the fold
 !!   between two faces at an angle gets their mean normal (a corner).
-!! * The bucket search returns the face under a point.
+!! * Rational Bezier faces: a quarter cylinder of radius R from two exact quadratic arcs of
+!!   45 degrees (middle weight cos 22.5 degrees) times a linear span along the axis: points at
+!!   a signed distance delta along the radius project back with d = delta (1e-10), sum l_A is
+!!   the area pi R L/2 (1e-10 with 8 x 8 Gauss points), the two faces are neighbours.
 program test_contact3d
   use ictus_core_kinds, only: dp
   use ictus_test_check, only: checker_t
@@ -26,6 +29,7 @@ program test_contact3d
   call flat(t, 9, 4, 'Q9 3x3 against Q4 4x4')
   call paraboloid(t)
   call outside_and_fold(t)
+  call cylinder(t)
   call t%finish()
 
 contains
@@ -178,4 +182,59 @@ contains
     call t%equal_int(pr%status, P3_OUTSIDE, 'beyond the boundary: outside')
     call t%true(pr%d < 0.0_dp, 'beyond the boundary and behind: d < 0')
   end subroutine outside_and_fold
+
+  !> Quarter cylinder x^2 + z^2 = R^2, x, z >= 0, 0 <= y <= L: two Bezier faces (arc 0..45
+  !! and 45..90 degrees, quadratic rational) times a linear span in y, running from y = L to
+  !! y = 0 so that a1 x a2 points outward.
+  subroutine cylinder(t)
+    type(checker_t), intent(inout) :: t
+    real(dp), parameter :: rc = 2.0_dp, lc = 3.0_dp, pi = acos(-1.0_dp)
+    type(surface3d_t) :: s
+    type(projection3d_t) :: pr
+    real(dp) :: x(3, 10), ext(4, 4, 2), wgt(16, 2), th, xs(3), delta, c45, yv
+    integer :: nens(2), conn(16, 2), deg(2, 2), f, i, j, k
+    c45 = cos(pi/8.0_dp)
+    ! control points of the arcs in the x-z plane: angles 0, 22.5 (scaled 1/cos), 45, ...
+    do j = 1, 2
+      yv = merge(lc, 0.0_dp, j == 1)
+      do i = 0, 4
+        th = pi/8.0_dp*i
+        x(:, i + 1 + 5*(j - 1)) = rc*[cos(th), 0.0_dp, sin(th)]/merge(c45, 1.0_dp, &
+            mod(i, 2) == 1)
+        x(2, i + 1 + 5*(j - 1)) = yv
+      end do
+    end do
+    ext = 0.0_dp
+    do k = 1, 4
+      ext(k, k, :) = 1.0_dp
+    end do
+    deg(:, 1) = [2, 1]
+    deg(:, 2) = [2, 1]
+    nens = 6
+    conn = 0
+    wgt = 0.0_dp
+    do f = 1, 2
+      do j = 1, 2
+        do i = 1, 3
+          conn(i + 3*(j - 1), f) = 2*(f - 1) + i + 5*(j - 1)
+          wgt(i + 3*(j - 1), f) = merge(c45, 1.0_dp, i == 2)
+        end do
+      end do
+    end do
+    call surface3d_init(s, nens, conn, x, ng=8, deg=deg, ext1=ext, ext2=ext, wgt=wgt)
+    call t%close(sum(s%ell), 0.5_dp*pi*rc*lc, 1.0e-10_dp, 'cylinder: sum l_A = pi R L/2')
+    call t%equal_int(s%nbr(2, 1), 2, 'cylinder: the faces are neighbours')
+    do k = 1, 10
+      th = 0.5_dp*pi*(0.05_dp + 0.09_dp*k)
+      delta = 0.02_dp*merge(1.0_dp, -1.0_dp, mod(k, 3) == 0)
+      xs = (rc + delta)*[cos(th), 0.0_dp, sin(th)]
+      xs(2) = lc*(0.1_dp + 0.08_dp*k)
+      call project3d(s, x, xs, [1, 2], 2, pr)
+      call t%true(pr%status == P3_INTERIOR .or. pr%status == P3_CORNER, &
+          'cylinder: projected')
+      call t%close(pr%d, delta, 1.0e-10_dp, 'cylinder: signed distance = delta')
+      call t%close_abs(norm2(pr%normal - [cos(th), 0.0_dp, sin(th)]), 0.0_dp, 1.0e-10_dp, &
+          'cylinder: the radial normal')
+    end do
+  end subroutine cylinder
 end program test_contact3d
