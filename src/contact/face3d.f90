@@ -26,7 +26,7 @@ module ictus_contact_face3d
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
   use ictus_elements_lagrange, only: lagrange_shape
   use ictus_elements_quadrature, only: gauss_legendre
-  use ictus_geometry_bezier, only: bernstein
+  use ictus_elements_iga, only: iga_basis_at
   implicit none
   private
   public :: surface3d_t, surface3d_init, face_shape, face_geometry, face_bbox, &
@@ -90,44 +90,21 @@ contains
     if (nen == 9) quad_type = ETYPE_Q9
   end function quad_type
 
-  !> Shape values r(nen) and parent derivatives dr(2, nen) of face f of s at xi.
+  !> Shape values r(nen) and parent derivatives dr(2, nen) of face f of s at xi: the
+  !! quadrilateral's (Lagrange faces) or the NURBS span's (Bezier faces, ictus_elements_iga).
   pure subroutine face_shape(s, f, xi, r, dr)
     type(surface3d_t), intent(in) :: s
     integer, intent(in) :: f
     real(dp), intent(in) :: xi(2)
     real(dp), intent(out) :: r(:), dr(:,:)
-    real(dp) :: b1(4), db1(4), b2(4), db2(4), n1(4), dn1(4), n2(4), dn2(4), w, dw(2), nw
-    integer :: p1, p2, i, j, a
+    integer :: p(2)
     if (s%deg(1, f) == 0) then
       call lagrange_shape(quad_type(s%nen(f)), xi, r, dr)
-      return
+    else
+      p = s%deg(:, f)
+      call iga_basis_at(p, s%ext1(1:p(1) + 1, 1:p(1) + 1, f), s%ext2(1:p(2) + 1, &
+          1:p(2) + 1, f), s%wgt(1:s%nen(f), f), xi, r, dr)
     end if
-    p1 = s%deg(1, f)
-    p2 = s%deg(2, f)
-    call bernstein(p1, 0.5_dp*(1.0_dp + xi(1)), b1(1:p1 + 1), db1(1:p1 + 1))
-    call bernstein(p2, 0.5_dp*(1.0_dp + xi(2)), b2(1:p2 + 1), db2(1:p2 + 1))
-    ! d/dxi = d/du / 2
-    n1(1:p1 + 1) = matmul(s%ext1(1:p1 + 1, 1:p1 + 1, f), b1(1:p1 + 1))
-    dn1(1:p1 + 1) = 0.5_dp*matmul(s%ext1(1:p1 + 1, 1:p1 + 1, f), db1(1:p1 + 1))
-    n2(1:p2 + 1) = matmul(s%ext2(1:p2 + 1, 1:p2 + 1, f), b2(1:p2 + 1))
-    dn2(1:p2 + 1) = 0.5_dp*matmul(s%ext2(1:p2 + 1, 1:p2 + 1, f), db2(1:p2 + 1))
-    w = 0.0_dp
-    dw = 0.0_dp
-    do j = 1, p2 + 1
-      do i = 1, p1 + 1
-        a = i + (p1 + 1)*(j - 1)
-        nw = s%wgt(a, f)
-        r(a) = nw*n1(i)*n2(j)
-        dr(1, a) = nw*dn1(i)*n2(j)
-        dr(2, a) = nw*n1(i)*dn2(j)
-        w = w + r(a)
-        dw = dw + dr(:, a)
-      end do
-    end do
-    do a = 1, s%nen(f)
-      dr(:, a) = (dr(:, a) - r(a)*dw/w)/w
-      r(a) = r(a)/w
-    end do
   end subroutine face_shape
 
   !> Point xp, tangents a(3, 2) and unit normal n of face f at xi on the coordinates x (3, nn);
