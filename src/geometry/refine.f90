@@ -2,7 +2,8 @@
 !!
 !! Knot refinement is Piegl & Tiller A5.4 (RefineKnotVectCurve), degree elevation A5.9
 !! (DegreeElevateCurve); both work in homogeneous coordinates (w x, w y, w). Control points
-!! are passed and returned as cp(3, :) = (x, y, w). Surface versions apply the curve
+!! are passed and returned as cp(d + 1, :) = (x, y[, z], w): the curve routines take any
+!! number of coordinates (the first dimension of cp less one). Surface versions apply the curve
 !! algorithm to every row (dir = 1) or column (dir = 2) of the control net (direction 1
 !! fastest). Internally the algorithms use 0-based arrays exactly as printed in the book.
 module ictus_geometry_refine
@@ -15,21 +16,23 @@ module ictus_geometry_refine
 contains
 
   !> Inserts the knots `x_new` (non-decreasing, inside the parameter range) into a NURBS curve.
-  !! @param n control points; @param p degree; @param knots (n+p+1); @param cp (3, n);
+  !! @param n control points; @param p degree; @param knots (n+p+1);
+  !! @param cp (d + 1, n): (x, y[, z], w);
   !! @param x_new knots to insert (any number, may be 0); @param n_out n + size(x_new);
-  !! @param knots_out (n_out+p+1); @param cp_out (3, n_out)
+  !! @param knots_out (n_out+p+1); @param cp_out (d + 1, n_out)
   pure subroutine refine_knot_vector(n, p, knots, cp, x_new, n_out, knots_out, cp_out)
     integer, intent(in) :: n, p
     real(dp), intent(in) :: knots(:), cp(:,:), x_new(:)
     integer, intent(out) :: n_out
     real(dp), allocatable, intent(out) :: knots_out(:), cp_out(:,:)
-    real(dp) :: pw(3, 0:n-1), qw(3, 0:n+size(x_new)-1)
+    real(dp) :: pw(size(cp, 1), 0:n-1), qw(size(cp, 1), 0:n+size(x_new)-1)
     real(dp) :: u(0:n+p), ub(0:n+p+size(x_new)), x(0:size(x_new)-1), alfa
-    integer :: m, r, a, b, i, j, k, l, ind, nl
+    integer :: m, r, a, b, i, j, k, l, ind, nl, nw
+    nw = size(cp, 1)
     nl = n - 1
     r = size(x_new) - 1
     n_out = n + size(x_new)
-    allocate(knots_out(n_out+p+1), cp_out(3, n_out))
+    allocate(knots_out(n_out+p+1), cp_out(nw, n_out))
     if (r < 0) then
       knots_out = knots(1:n+p+1)
       cp_out = cp(:, 1:n)
@@ -39,8 +42,8 @@ contains
     u = knots(1:n+p+1)
     x = x_new
     do j = 0, nl
-      pw(1:2, j) = cp(1:2, j+1)*cp(3, j+1)
-      pw(3, j) = cp(3, j+1)
+      pw(1:nw-1, j) = cp(1:nw-1, j+1)*cp(nw, j+1)
+      pw(nw, j) = cp(nw, j+1)
     end do
     a = find_span(n, p, x(0), knots) - 1
     b = find_span(n, p, x(r), knots) - 1 + 1
@@ -81,8 +84,8 @@ contains
     end do
     knots_out = ub
     do j = 0, n_out - 1
-      cp_out(1:2, j+1) = qw(1:2, j)/qw(3, j)
-      cp_out(3, j+1) = qw(3, j)
+      cp_out(1:nw-1, j+1) = qw(1:nw-1, j)/qw(nw, j)
+      cp_out(nw, j+1) = qw(nw, j)
     end do
   end subroutine refine_knot_vector
 
@@ -120,20 +123,23 @@ contains
 
   !> Elevates the degree of a NURBS curve from p to p+t (A5.9); interior knot
   !! multiplicities rise by t, the curve is unchanged.
-  !! @param n control points; @param p degree; @param knots (n+p+1); @param cp (3, n);
+  !! @param n control points; @param p degree; @param knots (n+p+1);
+  !! @param cp (d + 1, n): (x, y[, z], w);
   !! @param t elevation (>= 0); @param n_out new number of control points;
-  !! @param knots_out (n_out+p+t+1); @param cp_out (3, n_out)
+  !! @param knots_out (n_out+p+t+1); @param cp_out (d + 1, n_out)
   pure subroutine degree_elevate_curve(n, p, knots, cp, t, n_out, knots_out, cp_out)
     integer, intent(in) :: n, p, t
     real(dp), intent(in) :: knots(:), cp(:,:)
     integer, intent(out) :: n_out
     real(dp), allocatable, intent(out) :: knots_out(:), cp_out(:,:)
-    real(dp) :: pw(3, 0:n-1), u(0:n+p), bezalfs(0:p+t, 0:p)
-    real(dp) :: bpts(3, 0:p), ebpts(3, 0:p+t), nextbpts(3, 0:max(p-1, 0)), alfs(0:max(p-1, 0))
+    real(dp) :: pw(size(cp, 1), 0:n-1), u(0:n+p), bezalfs(0:p+t, 0:p)
+    real(dp) :: bpts(size(cp, 1), 0:p), ebpts(size(cp, 1), 0:p+t), &
+        nextbpts(size(cp, 1), 0:max(p-1, 0)), alfs(0:max(p-1, 0))
     real(dp), allocatable :: qw(:,:), uh(:)
     real(dp) :: inv, ua, ub, numer, den, bet, alf, gam
     integer :: m, ph, ph2, i, j, k, mpi, mh, kind, r, a, b, cind, mul, oldr, lbz, rbz
-    integer :: save_, s, first, last, tr, kj, nspan
+    integer :: save_, s, first, last, tr, kj, nspan, nw
+    nw = size(cp, 1)
     if (t <= 0) then
       n_out = n
       knots_out = knots(1:n+p+1)
@@ -143,15 +149,15 @@ contains
     m = n + p
     u = knots(1:n+p+1)
     do j = 0, n - 1
-      pw(1:2, j) = cp(1:2, j+1)*cp(3, j+1)
-      pw(3, j) = cp(3, j+1)
+      pw(1:nw-1, j) = cp(1:nw-1, j+1)*cp(nw, j+1)
+      pw(nw, j) = cp(nw, j+1)
     end do
     ! upper bound of the output sizes: every distinct knot gains t copies
     nspan = 1
     do j = 1, m
       if (u(j) /= u(j-1)) nspan = nspan + 1
     end do
-    allocate(qw(3, 0:n+nspan*t), uh(0:m+1+nspan*t))
+    allocate(qw(nw, 0:n+nspan*t), uh(0:m+1+nspan*t))
     ph = p + t
     ph2 = ph/2
     bezalfs = 0.0_dp
@@ -272,11 +278,11 @@ contains
     end do
     uh(kind:kind+ph) = ub
     n_out = mh - ph
-    allocate(knots_out(n_out+ph+1), cp_out(3, n_out))
+    allocate(knots_out(n_out+ph+1), cp_out(nw, n_out))
     knots_out = uh(0:n_out+ph)
     do j = 0, n_out - 1
-      cp_out(1:2, j+1) = qw(1:2, j)/qw(3, j)
-      cp_out(3, j+1) = qw(3, j)
+      cp_out(1:nw-1, j+1) = qw(1:nw-1, j)/qw(nw, j)
+      cp_out(nw, j+1) = qw(nw, j)
     end do
   end subroutine degree_elevate_curve
 
