@@ -379,6 +379,9 @@ contains
     best_cl = huge(1.0_dp)
     f_cl = 0
     side_cl = 0
+    xi_cl = 0.0_dp
+    xp_cl = 0.0_dp
+    n_cl = 0.0_dp
     do k = 1, ncand
       f = cand(k)
       call project_face(s, f, x, xs, xi, xp, n, side)

@@ -15,7 +15,7 @@ module ictus_geometry_patch
   implicit none
   private
   public :: patch_t, patch_elevate, patch_refine, patch_build_elements, patch_point, &
-      patch_side_points, patch_side_elements, patch_elem_ij
+      patch_side_points, patch_side_elements, patch_elem_ij, new_knots, span_ranges
 
   !> A NURBS patch with its Bezier-extracted elements.
   type :: patch_t
