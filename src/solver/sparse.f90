@@ -13,7 +13,7 @@ module ictus_solver_sparse
   public :: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, csr_init, bsr_add_element, &
       csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col, &
       graph_copy, csr_copy, fused_lumped_step, fused_lumped_rows, bsr_upper_t, bsr_upper_init, &
-      bsr_matvec_ordered, bsr_upper_matvec
+      bsr_matvec_ordered, bsr_upper_matvec, bsr3_matvec
 
   !> Node adjacency graph in CSR form (every node is its own neighbour). Rows exist for the
   !! first `n` (owned) nodes; columns are local node indices 1..ncol, sorted in each row by
@@ -27,7 +27,7 @@ module ictus_solver_sparse
     integer, allocatable :: key(:)
   end type graph_t
 
-  !> Block CSR matrix with 2x2 blocks, val(2, 2, nnz_blocks).
+  !> Block CSR matrix with nb x nb node blocks (2 in 2D, 3 in 3D), val(nb, nb, nnz_blocks).
   type :: bsr_t
     type(graph_t) :: g
     real(dp), allocatable :: val(:,:,:)
@@ -63,6 +63,7 @@ module ictus_solver_sparse
   procedure(c_row_loop), bind(c, name='ictus_bsr_matvec') :: c_bsr_matvec
   procedure(c_row_loop), bind(c, name='ictus_bsr_matvec_ordered') :: c_bsr_matvec_ordered
   procedure(c_row_loop), bind(c, name='ictus_bsr_symv') :: c_bsr_symv
+  procedure(c_row_loop), bind(c, name='ictus_bsr3_matvec') :: c_bsr3_matvec
 
 contains
 
@@ -200,12 +201,16 @@ contains
     dst%val(:) = src%val
   end subroutine csr_copy
 
-  !> Zero block matrix on graph `g`.
-  subroutine bsr_init(a, g)
+  !> Zero block matrix on graph `g` with nb x nb blocks (default 2).
+  subroutine bsr_init(a, g, nb)
     type(bsr_t), intent(out) :: a
     type(graph_t), intent(in) :: g
+    integer, intent(in), optional :: nb
+    integer :: m
+    m = 2
+    if (present(nb)) m = nb
     call graph_copy(a%g, g)
-    call alloc_stream(a%val, 2, 2, size(g%col), 0.0_dp)
+    call alloc_stream(a%val, m, m, size(g%col), 0.0_dp)
   end subroutine bsr_init
 
   !> Zero scalar matrix on graph `g`.
@@ -216,19 +221,20 @@ contains
     call alloc_stream(a%val, size(g%col), 0.0_dp)
   end subroutine csr_init
 
-  !> Adds an element stiffness ke(2*nen, 2*nen) (dofs x1,y1,x2,y2,...) on nodes `nodes`
-  !! (local indices); only the rows of nodes that have rows (owned nodes) are added.
+  !> Adds an element stiffness ke(nb*nen, nb*nen) (dofs x1, y1[, z1], x2, ...) on nodes
+  !! `nodes` (local indices); only the rows of nodes that have rows (owned nodes) are added.
   subroutine bsr_add_element(a, nen, nodes, ke)
     type(bsr_t), intent(inout) :: a
     integer, intent(in) :: nen
     integer, intent(in) :: nodes(nen)
-    real(dp), intent(in) :: ke(2*nen, 2*nen)
-    integer :: p, q, pos
+    real(dp), intent(in) :: ke(:,:)
+    integer :: p, q, pos, nb
+    nb = size(a%val, 1)
     do p = 1, nen
       if (nodes(p) > a%g%n) cycle
       do q = 1, nen
         pos = find_col(a%g, nodes(p), nodes(q))
-        a%val(:, :, pos) = a%val(:, :, pos) + ke(2*p - 1:2*p, 2*q - 1:2*q)
+        a%val(:, :, pos) = a%val(:, :, pos) + ke(nb*(p - 1) + 1:nb*p, nb*(q - 1) + 1:nb*q)
       end do
     end do
   end subroutine bsr_add_element
@@ -265,6 +271,18 @@ contains
     real(dp), intent(inout) :: y(2, *)
     call c_bsr_matvec(n, row_ptr, col, val, x, y)
   end subroutine bsr_matvec
+
+  !> y = A x for a matrix of 3x3 blocks (3D) on its n rows; x(3, *) holds owned and ghost
+  !! values. The order of bsr_matvec with three components: each block's three products in
+  !! column order, the blocks alternately into two partial sums (`ictus_bsr3_matvec`,
+  !! bsr_kernel.c).
+  subroutine bsr3_matvec(n, row_ptr, col, val, x, y)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(3, 3, *), x(3, *)
+    real(dp), intent(inout) :: y(3, *)
+    call c_bsr3_matvec(n, row_ptr, col, val, x, y)
+  end subroutine bsr3_matvec
 
   !> y = A x summed in column order: each row one chain over its blocks in the order of their
   !! columns (global indices), y_i = ((0 + t_1) + t_2) + ..., with t_k = A_ik(:, 1) x_k1 +
