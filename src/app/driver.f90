@@ -61,6 +61,9 @@ contains
     t0 = wall_time()
     call read_deck(opt%deck_path, deck)
     if (error_count() > 0) call input_failure()
+    if (deck%ndm == 3) call input_error(deck%analysis_where, '*ANALYSIS, TYPE=3D: not yet '// &
+        'in 3D: the model and the solver (the deck is read and checked)')
+    if (error_count() > 0) call input_failure()
     call phase('deck read', t0)
     call build_model(deck, model)
     if (error_count() > 0) call input_failure()
