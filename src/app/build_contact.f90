@@ -40,6 +40,13 @@ contains
     integer, allocatable :: fe_ids(:)
     character(len=str_len) :: name
     n0 = error_count()
+    ! contact in 3D is refused by the reader (the faces of hexahedra are not segments): a 3D
+    ! model has no contact surfaces to build
+    if (model%ndm == 3) then
+      call contact_init(c, 0, 0)
+      c%node_id = model%node_id
+      return
+    end if
     call contact_init(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
     c%node_id = model%node_id
     ! FE elements by user id (IGA elements get id -1, which no deck id matches)

@@ -16,14 +16,14 @@ module ictus_solver_load_spec
 
   !> A constant nodal force vector times an amplitude: the forces `value` on dof `dof` of the
   !! nodes `nodes` (*CLOAD), or the body force rho g of the elements `elems` (*DLOAD, GRAV;
-  !! g(2) is g times the normalised direction).
+  !! g(3) is g times the normalised direction; g(3) = 0 in 2D).
   type :: nodal_load_t
     integer :: amp = 0
     integer :: dof = 0
     real(dp) :: value = 0.0_dp
     integer, allocatable :: nodes(:)
     integer, allocatable :: elems(:)
-    real(dp) :: g(2) = 0.0_dp
+    real(dp) :: g(3) = 0.0_dp
   end type nodal_load_t
 
   !> A pressure p times an amplitude on a surface (*DLOAD, P); positive pushes into the body.

@@ -33,14 +33,14 @@ module ictus_solver_loads
     logical :: active = .false.
     integer :: nn = 0
     type(amplitude_t), allocatable :: amps(:)
-    !> Constant nodal vectors F_g (2, nn, ngroup) and the amplitude of each (ngroup).
+    !> Constant nodal vectors F_g (ndm, nn, ngroup) and the amplitude of each (ngroup).
     integer :: ngroup = 0
     integer, allocatable :: group_amp(:)
     real(dp), allocatable :: fg(:,:,:)
     !> Pressure loads, and whether they follow the deformed surface (NLGEOM).
     type(pressure_rt_t), allocatable :: press(:)
     logical :: follow = .false.
-    !> Local reference coordinates (2, nlocal).
+    !> Local reference coordinates (ndm, nlocal).
     real(dp), allocatable :: x0(:,:)
     !> Prescribed dofs of owned nodes: local node, dof, MOTION_* kind, amplitude, value.
     integer :: nmot = 0
@@ -69,7 +69,7 @@ contains
       end do
       ld%ngroup = size(gamp)
       ld%group_amp = gamp
-      allocate(ld%fg(2, dom%nowned, ld%ngroup), source=0.0_dp)
+      allocate(ld%fg(model%ndm, dom%nowned, ld%ngroup), source=0.0_dp)
       do k = 1, ls%nnodal
         ig = findloc(gamp, ls%nodal(k)%amp, dim=1)
         associate (nl => ls%nodal(k))
@@ -113,13 +113,13 @@ contains
   end subroutine loads_init
 
   !> Adds the body force rho g int N_A dV of the elements `elems` (global indices) to the owned
-  !! rows of f (2, nowned): the row sums of each element's consistent mass, elements in global
+  !! rows of f (ndm, nowned): the row sums of each element's consistent mass, elements in global
   !! order (the rank's elements that hold an owned node).
   subroutine add_gravity(model, dom, elems, g, f)
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer, intent(in) :: elems(:)
-    real(dp), intent(in) :: g(2)
+    real(dp), intent(in) :: g(:)
     real(dp), intent(inout) :: f(:,:)
     logical, allocatable :: in_set(:)
     type(shape_cache_t) :: cache
@@ -140,12 +140,12 @@ contains
         i = dom%conn(a, k)
         if (i > dom%nowned) cycle
         row = sum(mout%s(a, 1:nen))
-        f(:, i) = f(:, i) + row*g
+        f(:, i) = f(:, i) + row*g(1:size(f, 1))
       end do
     end do
   end subroutine add_gravity
 
-  !> The external force at time t on the owned rows of f (2, nlocal): f = f_ext(t); x0 the
+  !> The external force at time t on the owned rows of f (ndm, nlocal): f = f_ext(t); x0 the
   !! local reference coordinates (ld%x0), u the local displacements (for NLGEOM pressure).
   subroutine loads_force(ld, t, x0, u, f)
     type(loads_t), intent(in) :: ld
