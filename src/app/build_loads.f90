@@ -16,7 +16,7 @@ module ictus_app_build_loads
   use ictus_solver_model, only: model_t
   use ictus_io_deck_types, only: deck_t, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP, BC_VELOCITY
   use ictus_app_build_model, only: resolve_node_set, resolve_elem_set
-  use ictus_app_build_contact, only: build_named_surface
+  use ictus_app_build_contact, only: build_named_surface, named_element_faces
   use ictus_app_id_map, only: id_map_t, id_map_init
   implicit none
   private
@@ -201,12 +201,12 @@ contains
           if (l%kind /= DLOAD_PRESSURE) cycle
           n = n + 1
           if (model%ndm == 3) then
-            call input_error(l%where, '*DLOAD, P: not yet in 3D: pressure on the faces of '// &
-                'hexahedra (a load on a face is a *CLOAD on its nodes)')
-            cycle
+            call named_element_faces(deck, model, l%target, l%where, '*DLOAD, P', &
+                ls%press(n)%nface, ls%press(n)%face_conn, ls%press(n)%face_nfn)
+          else
+            call build_named_surface(deck, model, l%target, l%where, '*DLOAD, P', &
+                ls%press(n)%surf)
           end if
-          call build_named_surface(deck, model, l%target, l%where, '*DLOAD, P', &
-              ls%press(n)%surf)
           ls%press(n)%p = l%value
           ls%press(n)%amp = amp_index(model, l%amplitude)
         end associate

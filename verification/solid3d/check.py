@@ -160,6 +160,74 @@ def patch_test(args, chk):
         chk.below(uerr, 1e-8, f"patch {etype}: interior nodes at the linear field A x")
 
 
+def pressure_faces(nx, ny, nz):
+    """*SURFACE data lines of every boundary face of a box of nx x ny x nz elements
+    (scripts/mesh/box.py numbering: x fastest): S6, S4 on x = x0, x1; S3, S5 on y; S1, S2 on z."""
+    lines = []
+    for ez in range(nz):
+        for ey in range(ny):
+            for ex in range(nx):
+                e = 1 + ex + nx * (ey + ny * ez)
+                for on, face in ((ex == 0, "S6"), (ex == nx - 1, "S4"), (ey == 0, "S3"),
+                                 (ey == ny - 1, "S5"), (ez == 0, "S1"), (ez == nz - 1, "S2")):
+                    if on:
+                        lines.append(f"{e}, {face}\n")
+    return "".join(lines)
+
+
+def pressure_tests(args, chk):
+    """*DLOAD, P on faces of hexahedra. (a) A free block of distorted elements under a
+    uniform pressure p on its whole boundary, relaxed by damping: a self-equilibrated load
+    whose static solution is the uniform stress sigma = -p I in every element. (b) The bar of
+    1 held at x = 0, at rest, with the pressure p applied at t = 0 on its end x = L: the
+    stress wave -p runs at c, the end moves at -p/(rho c), u(L, t) = -p c t/E for t < 2 L/c."""
+    p = 2.0
+    for etype in ("C3D8", "C3D20", "C3D27"):
+        mesh = vcheck.box_mesh(type=etype, nx=3, ny=3, nz=3, lx=1.0, ly=1.2, lz=0.9,
+                               distort=0.1)
+        path = os.path.join(args.work, f"pressure_{etype}.inp")
+        with open(path, "w") as f:
+            f.write("*HEADING\nhydrostatic pressure on a free block\n*ANALYSIS, TYPE=3D\n"
+                    + material(nu=NU_P) + mesh + "*SURFACE, NAME=OUTSIDE, TYPE=ELEMENT\n"
+                    + pressure_faces(3, 3, 3) + f"*DLOAD\nOUTSIDE, P, {p!r}\n"
+                    + "*DAMPING, ALPHA=100\n*STEP\n*DYNAMIC, EXPLICIT\n0, 1.0\n"
+                    + "*OUTPUT, FIELD, VARIABLES=U,S\n*OUTPUT, HISTORY, EVERY=100\n*END STEP\n")
+        out = path.replace(".inp", ".h5")
+        vcheck.run_ictus(args, path, out)
+        r = vcheck.Results(out)
+        s = r.field(r.field_steps()[-1], "stress")
+        err = float(np.max(np.abs(s - [-p, -p, -p, 0.0, 0.0, 0.0]))) / p
+        chk.below(err, 1e-8, f"pressure {etype}: a free block under pressure p on its whole "
+                  "boundary relaxes to sigma = -p I in every element")
+    for etype, nx in (("C3D8", 100), ("C3D20", 50)):
+        path = os.path.join(args.work, f"pressure_bar_{etype}.inp")
+        with open(path, "w") as f:
+            f.write("*HEADING\nbar under an end pressure\n*ANALYSIS, TYPE=3D\n" + material()
+                    + vcheck.box_mesh(type=etype, nx=nx, ny=1, nz=1, lx=L, ly=H, lz=H)
+                    + f"*SURFACE, NAME=END, TYPE=ELEMENT\n{nx}, S4\n*BOUNDARY\nX0, 1, 1\n"
+                    + f"*DLOAD\nEND, P, {p!r}\n*STEP\n*DYNAMIC, EXPLICIT\n0, "
+                    + repr(1.5 * L / C) + "\n*OUTPUT, FIELD, EVERY=50\n"
+                    + "*RESTART, WRITE, EVERY=100\n*END STEP\n")
+        out = path.replace(".inp", ".h5")
+        vcheck.run_ictus(args, path, out)
+        r = vcheck.Results(out)
+        x = r.model("coordinates")[:, 0]
+        last = r.field_steps()[-1]
+        t = r.field_time(last)
+        u = r.field(last, "displacement")
+        tip = float(np.mean(u[np.isclose(x, L), 0]))
+        chk.close(tip, -p * C * t / E, 0.02, f"pressure bar {etype}: end displacement "
+                  f"-p c t/E at t = {t:.4f}")
+        etot = r.history("energy/total")
+        emax = float(np.max(r.history("energy/strain")))
+        chk.below(float(np.max(np.abs(etot - etot[0]))) / emax, 5e-3,
+                  f"pressure bar {etype}: energy balance (the work of the pressure in "
+                  "external_work) / max strain energy")
+        if etype == "C3D20":
+            vcheck.check_ranks_and_restart(args, chk, path, out,
+                                           label=f"pressure bar {etype}: ")
+
+
 # ---------------------------------------------------------------------------------------------
 # 3. omega_max of a free cube
 # ---------------------------------------------------------------------------------------------
@@ -293,6 +361,7 @@ def main():
     chk = vcheck.Checker("solid3d")
     bar_wave(args, chk)
     patch_test(args, chk)
+    pressure_tests(args, chk)
     free_cube(args, chk)
     quarter_ball_mass(args, chk)
     quarter_ball_bits(args, chk)

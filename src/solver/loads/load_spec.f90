@@ -27,8 +27,12 @@ module ictus_solver_load_spec
   end type nodal_load_t
 
   !> A pressure p times an amplitude on a surface (*DLOAD, P); positive pushes into the body.
+  !! 2D: the surface's segments `surf`; 3D: the faces of hexahedra, global nodes
+  !! face_conn(:, 1:nface), face_nfn(k) (4, 8 or 9) each.
   type :: pressure_load_t
     type(contact_surface_t) :: surf
+    integer :: nface = 0
+    integer, allocatable :: face_conn(:,:), face_nfn(:)
     real(dp) :: p = 0.0_dp
     integer :: amp = 0
   end type pressure_load_t

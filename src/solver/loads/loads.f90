@@ -19,6 +19,7 @@ module ictus_solver_loads
   use ictus_solver_amplitude, only: amplitude_t, amp_factor
   use ictus_solver_load_spec, only: load_spec_active, MOTION_DISPLACEMENT
   use ictus_solver_pressure, only: pressure_rt_t, pressure_setup, pressure_add
+  use ictus_solver_face_pressure, only: face_pressure_t, face_pressure_setup, face_pressure_add
   use ictus_solver_model, only: model_t
   use ictus_solver_domain, only: domain_t
   use ictus_solver_assemble, only: element_shape, shape_cache_t
@@ -39,6 +40,8 @@ module ictus_solver_loads
     real(dp), allocatable :: fg(:,:,:)
     !> Pressure loads, and whether they follow the deformed surface (NLGEOM).
     type(pressure_rt_t), allocatable :: press(:)
+    !> 3D: the pressure loads on faces of hexahedra (press is then empty).
+    type(face_pressure_t), allocatable :: fpress(:)
     logical :: follow = .false.
     !> Local reference coordinates (ndm, nlocal).
     real(dp), allocatable :: x0(:,:)
@@ -85,11 +88,21 @@ contains
         end associate
       end do
       ld%follow = model%nlgeom
-      allocate(ld%press(ls%npress))
-      do k = 1, ls%npress
-        call pressure_setup(ls%press(k)%surf, ls%press(k)%p, ls%press(k)%amp, dom%g2l, &
-            dom%nowned, ld%press(k))
-      end do
+      if (model%ndm == 3) then
+        allocate(ld%press(0), ld%fpress(ls%npress))
+        do k = 1, ls%npress
+          associate (pl => ls%press(k))
+            call face_pressure_setup(pl%nface, pl%face_nfn, pl%face_conn, pl%p, pl%amp, &
+                dom%g2l, dom%nowned, ld%fpress(k))
+          end associate
+        end do
+      else
+        allocate(ld%press(ls%npress), ld%fpress(0))
+        do k = 1, ls%npress
+          call pressure_setup(ls%press(k)%surf, ls%press(k)%p, ls%press(k)%amp, dom%g2l, &
+              dom%nowned, ld%press(k))
+        end do
+      end if
       ld%x0 = model%x0(:, dom%halo%gid)
       ld%nmot = 0
       do k = 1, ls%nmotion
@@ -163,6 +176,10 @@ contains
     do k = 1, size(ld%press)
       a = amp_factor(ld%amps, ld%press(k)%amp, t)
       call pressure_add(ld%press(k), a, x0, u, ld%follow, nn, f)
+    end do
+    do k = 1, size(ld%fpress)
+      a = amp_factor(ld%amps, ld%fpress(k)%amp, t)
+      call face_pressure_add(ld%fpress(k), a, x0, u, ld%follow, nn, f)
     end do
   end subroutine loads_force
 
