@@ -252,6 +252,37 @@ def checker(prog):
     return check
 
 
+def add_mesh_options(ap, max_distort):
+    """The options that the structured meshers (rect.py, box.py) share: first ids, names and
+    the distortion of the vertices (a fraction of the element size below max_distort)."""
+    ap.add_argument("--first-node", type=int, default=1, help="first node id (>= 1)")
+    ap.add_argument("--first-element", type=int, default=1, help="first element id (>= 1)")
+    ap.add_argument("--elset", default="BODY")
+    ap.add_argument("--material", default="MAT")
+    ap.add_argument("--prefix", default="", help="prefix of the node set names")
+    ap.add_argument("--distort", type=float, default=0.0,
+                    help=f"vertex offset, a fraction of the element size in [0, {max_distort:g})")
+
+
+def check_first_ids(check, ids):
+    """The first node or element ids of a mesher's options, [(option, first id, count,
+    "node" or "element")]: each > 0, and the last of the count ids within MAX_ID."""
+    for opt, first, count, what in ids:
+        check(first >= 1, opt, f"a positive {what} id (deck ids are > 0)", first)
+        check(first <= MAX_ID - count + 1, opt, f"at most {MAX_ID - count + 1}, so that the "
+              f"last of the {count} {what} ids stays <= {MAX_ID}", first)
+
+
+def check_names(check, a, set_name):
+    """--elset, --material and --prefix of a mesher (set_name: a set it writes, which the
+    prefix must keep a valid name)."""
+    check(NAME.match(a.elset), "--elset", f"a name ({NAME_RULE})", a.elset)
+    check(NAME.match(a.material), "--material", f"a name ({NAME_RULE})", a.material)
+    check(NAME.match(a.prefix + set_name), "--prefix",
+          f"a prefix giving valid set names such as {a.prefix}{set_name} ({NAME_RULE})",
+          a.prefix)
+
+
 def q8_id_count(n):
     """Nodes of the n x n Q8 mesh (more than its n^2 elements): the ids used per body."""
     return (2 * n + 1) ** 2 - n * n

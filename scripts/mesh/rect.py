@@ -17,12 +17,11 @@ Bad values (counts or ids < 1, lengths <= 0, non-finite numbers, bad names, d ou
 """
 import argparse
 import math
-import re
 import sys
 
-MAX_ID = 2**31 - 1                       # ids are default Fortran integers (deck_lexer.f90)
+from halfdisc import MAX_ID, add_mesh_options, check_first_ids, check_names
+
 MAX_DISTORT = 0.25                       # keeps every Jacobian positive (see above)
-NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]{0,63}\Z")   # deck name rule (deck_card.f90)
 
 
 def main():
@@ -34,13 +33,7 @@ def main():
     ap.add_argument("--ly", type=float, required=True, help="length along y (> 0)")
     ap.add_argument("--x0", type=float, default=0.0)
     ap.add_argument("--y0", type=float, default=0.0)
-    ap.add_argument("--first-node", type=int, default=1, help="first node id (>= 1)")
-    ap.add_argument("--first-element", type=int, default=1, help="first element id (>= 1)")
-    ap.add_argument("--elset", default="BODY")
-    ap.add_argument("--material", default="MAT")
-    ap.add_argument("--prefix", default="", help="prefix of the node set names")
-    ap.add_argument("--distort", type=float, default=0.0,
-                    help="vertex offset, a fraction of the element size in [0, 0.25)")
+    add_mesh_options(ap, MAX_DISTORT)
     a = ap.parse_args()
     check_options(a)
     write_mesh(a, sys.stdout)
@@ -72,11 +65,8 @@ def check_options(a):
     check(a.nx >= 1, "--nx", "a positive integer", a.nx)
     check(a.ny >= 1, "--ny", "a positive integer", a.ny)
     check(node_count(a) <= MAX_ID, "--nx, --ny", f"at most {MAX_ID} nodes", (a.nx, a.ny))
-    for opt, first, count, what in (("--first-node", a.first_node, node_count(a), "node"),
-                                    ("--first-element", a.first_element, a.nx * a.ny, "element")):
-        check(first >= 1, opt, f"a positive {what} id (deck ids are > 0)", first)
-        check(first <= MAX_ID - count + 1, opt, f"at most {MAX_ID - count + 1}, so that the "
-              f"last of the {count} {what} ids stays <= {MAX_ID}", first)
+    check_first_ids(check, (("--first-node", a.first_node, node_count(a), "node"),
+                            ("--first-element", a.first_element, a.nx * a.ny, "element")))
     for opt, v in (("--lx", a.lx), ("--ly", a.ly)):
         check(math.isfinite(v) and v > 0.0, opt, "a positive finite length", v)
     for opt, v in (("--x0", a.x0), ("--y0", a.y0)):
@@ -90,11 +80,7 @@ def check_options(a):
           f"a length whose nodes stay finite and distinct from --x0 {a.x0!r}", a.lx)
     check(grid_ok(a.y0, a.ly, m * a.ny), "--ly",
           f"a length whose nodes stay finite and distinct from --y0 {a.y0!r}", a.ly)
-    rule = "a letter or _, then letters, digits, _, - or ., at most 64 characters"
-    check(NAME.match(a.elset), "--elset", f"a name ({rule})", a.elset)
-    check(NAME.match(a.material), "--material", f"a name ({rule})", a.material)
-    check(NAME.match(a.prefix + "CORNER_LL"), "--prefix",
-          f"a prefix giving valid set names such as {a.prefix}CORNER_LL ({rule})", a.prefix)
+    check_names(check, a, "CORNER_LL")
     check(0.0 <= a.distort < MAX_DISTORT, "--distort",
           f"a number in [0, {MAX_DISTORT:g}) (larger offsets can invert elements)", a.distort)
 

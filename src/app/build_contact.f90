@@ -17,13 +17,15 @@ module ictus_app_build_contact
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       contact_define_friction, PAIR_MORTAR, PAIR_TIE
   use ictus_solver_model, only: model_t, patch_nodes
+  use ictus_elements_types, only: element_kind_t
+  use ictus_elements_library, only: element_kind
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
       CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR
   use ictus_app_build_model, only: resolve_elem_set, patch_index
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   implicit none
   private
-  public :: build_contact, build_named_surface
+  public :: build_contact, build_named_surface, named_element_faces
 
 contains
 
@@ -40,6 +42,13 @@ contains
     integer, allocatable :: fe_ids(:)
     character(len=str_len) :: name
     n0 = error_count()
+    ! contact in 3D is refused by the reader (the faces of hexahedra are not segments): a 3D
+    ! model has no contact surfaces to build
+    if (model%ndm == 3) then
+      call contact_init(c, 0, 0)
+      c%node_id = model%node_id
+      return
+    end if
     call contact_init(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
     c%node_id = model%node_id
     ! FE elements by user id (IGA elements get id -1, which no deck id matches)
@@ -197,6 +206,30 @@ contains
     call build_surface(deck, model, emap, deck%surfaces(i), surf)
   end subroutine build_named_surface
 
+  !> The faces of the TYPE=ELEMENT surface `name` of a 3D model (the pressure of *DLOAD, P):
+  !! nface faces, their global nodes conn(:, 1:nface) in the order of the element
+  !! description's face lists (nfn(k) = 4, 8 or 9 nodes). Problems are reported at `where`
+  !! (card: the card that names the surface).
+  subroutine named_element_faces(deck, model, name, where, card, nface, conn, nfn)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    character(len=*), intent(in) :: name, where, card
+    integer, intent(out) :: nface
+    integer, allocatable, intent(out) :: conn(:,:), nfn(:)
+    type(id_map_t) :: emap
+    integer, allocatable :: elem(:)
+    integer :: i, n0
+    nface = 0
+    allocate(conn(9, 0), nfn(0))
+    i = surface_index(deck, name, where, card)
+    if (i == 0) return
+    call id_map_init(emap, model%elem_id)
+    n0 = error_count()
+    call element_faces(deck, model, emap, deck%surfaces(i), nface, conn, nfn, elem)
+    if (nface == 0 .and. error_count() == n0) call input_error(deck%surfaces(i)%where, &
+        '*SURFACE '//trim(deck%surfaces(i)%name)//' has no element faces')
+  end subroutine named_element_faces
+
   !> Builds the surface of deck record `sin` into `surf`.
   subroutine build_surface(deck, model, emap, sin, surf)
     type(deck_t), intent(in) :: deck
@@ -300,7 +333,9 @@ contains
     elem = elem(1:nseg)
   end subroutine patch_sides
 
-  !> Faces of a TYPE=ELEMENT surface: node lists (3, nseg), nodes per face, elements.
+  !> Faces of a TYPE=ELEMENT surface: node lists (3, nseg) in 2D (the edge segments of
+  !! face_segment), the quadrilateral faces (9, nseg) of the hexahedra in 3D; nodes per face,
+  !! elements.
   subroutine element_faces(deck, model, emap, sin, nseg, conn, nens, elem)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
@@ -309,9 +344,10 @@ contains
     integer, intent(out) :: nseg
     integer, allocatable, intent(out) :: conn(:,:), nens(:), elem(:)
     logical, allocatable :: mask(:), used(:,:)
-    integer :: k, e
-    allocate(conn(3, 4*model%nel), nens(4*model%nel), elem(4*model%nel), &
-        mask(model%nel), used(4, model%nel))
+    integer :: k, e, nf
+    nf = merge(6, 4, model%ndm == 3)
+    allocate(conn(merge(9, 3, model%ndm == 3), nf*model%nel), nens(nf*model%nel), &
+        elem(nf*model%nel), mask(model%nel), used(nf, model%nel))
     used = .false.
     nseg = 0
     do k = 1, size(sin%face)
@@ -336,6 +372,7 @@ contains
       integer, intent(in) :: ee, kk
       integer :: f, nfn
       real(dp) :: area
+      type(element_kind_t) :: kd
       f = sin%face(kk)
       if (model%patch(ee) /= 0) then
         call input_error(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': element '// &
@@ -349,6 +386,15 @@ contains
         return
       end if
       used(f, ee) = .true.
+      if (model%ndm == 3) then
+        ! a face of a hexahedron (S1..S6), its nodes as the element description lists them
+        kd = element_kind(model%etype(ee))
+        nseg = nseg + 1
+        conn(1:kd%nfn, nseg) = model%conn(kd%face(1:kd%nfn, f), ee)
+        nens(nseg) = kd%nfn
+        elem(nseg) = ee
+        return
+      end if
       area = element_area(model%etype(ee), model%x0(:, model%conn(1:model%nen(ee), ee)))
       if (.not. (area > 0.0_dp)) then
         call input_error(sin%entry_where(kk), '*SURFACE '//trim(sin%name)//': element '// &

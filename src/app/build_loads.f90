@@ -16,7 +16,7 @@ module ictus_app_build_loads
   use ictus_solver_model, only: model_t
   use ictus_io_deck_types, only: deck_t, DLOAD_PRESSURE, AMP_DEF_SMOOTH_STEP, BC_VELOCITY
   use ictus_app_build_model, only: resolve_node_set, resolve_elem_set
-  use ictus_app_build_contact, only: build_named_surface
+  use ictus_app_build_contact, only: build_named_surface, named_element_faces
   use ictus_app_id_map, only: id_map_t, id_map_init
   implicit none
   private
@@ -71,14 +71,14 @@ contains
     logical, allocatable :: mask(:)
     integer :: k, d, i, n, ka
     logical :: refused
-    allocate(last(2, model%nn), source=0)
+    allocate(last(model%ndm, model%nn), source=0)
     allocate(mask(model%nn))
     refused = .false.
     do k = 1, deck%n_boundaries
       associate (b => deck%boundaries(k))
         mask = .false.
         call resolve_node_set(deck, model, node_map, b%target, b%where, mask, 0)
-        do d = max(b%first_dof, 1), min(b%last_dof, 2)
+        do d = max(b%first_dof, 1), min(b%last_dof, model%ndm)
           where (mask) last(d, :) = k
         end do
         if (.not. varying(k) .or. refused) cycle
@@ -94,7 +94,7 @@ contains
     end do
     n = 0
     do i = 1, model%nn
-      do d = 1, 2
+      do d = 1, model%ndm
         if (last(d, i) > 0) then
           if (varying(last(d, i))) n = n + 1
         end if
@@ -105,7 +105,7 @@ contains
       allocate(ls%m_node(n), ls%m_dof(n), ls%m_kind(n), ls%m_amp(n), ls%m_value(n))
       n = 0
       do i = 1, model%nn
-        do d = 1, 2
+        do d = 1, model%ndm
           k = last(d, i)
           if (k == 0) cycle
           if (.not. varying(k)) cycle
@@ -146,7 +146,7 @@ contains
     type(id_map_t), intent(in) :: node_map
     logical, allocatable :: mask(:), emask(:)
     integer :: k, n, i
-    real(dp) :: dir(2)
+    real(dp) :: dir(3)
     associate (ls => model%loads)
       allocate(ls%nodal(deck%n_cloads + deck%n_dloads))
       n = 0
@@ -174,7 +174,8 @@ contains
             call resolve_elem_set(deck, model, l%target, l%where, emask, 0)
           end if
           n = n + 1
-          dir = l%dir(1:2)/norm2(l%dir(1:2))
+          dir = 0.0_dp
+          dir(1:model%ndm) = l%dir(1:model%ndm)/norm2(l%dir(1:model%ndm))
           ls%nodal(n)%amp = amp_index(model, l%amplitude)
           ls%nodal(n)%g = l%value*dir
           ls%nodal(n)%elems = pack([(i, i = 1, model%nel)], emask)
@@ -199,8 +200,13 @@ contains
         associate (l => deck%dloads(k))
           if (l%kind /= DLOAD_PRESSURE) cycle
           n = n + 1
-          call build_named_surface(deck, model, l%target, l%where, '*DLOAD, P', &
-              ls%press(n)%surf)
+          if (model%ndm == 3) then
+            call named_element_faces(deck, model, l%target, l%where, '*DLOAD, P', &
+                ls%press(n)%nface, ls%press(n)%face_conn, ls%press(n)%face_nfn)
+          else
+            call build_named_surface(deck, model, l%target, l%where, '*DLOAD, P', &
+                ls%press(n)%surf)
+          end if
           ls%press(n)%p = l%value
           ls%press(n)%amp = amp_index(model, l%amplitude)
         end associate

@@ -15,8 +15,8 @@ module ictus_app_build_model
       patch_side_points
   use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
   use ictus_elements_library, only: etype_name, element_default_ngauss
-  use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS
+  use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL, MASS_CONSISTENT
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D
   use ictus_materials_material, only: material_make_law, material_t
   use ictus_solver_model, only: model_t, model_kinematics, patch_node, patch_nodes, FORCE_AUTO, &
       FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
@@ -62,8 +62,10 @@ contains
     call ticker_start(tk, 'model building')
     model%title = ''
     if (allocated(deck%title)) model%title = deck%title
+    model%ndm = deck%ndm
     model%analysis = ANALYSIS_PLANE_STRESS
     if (deck%analysis == DECK_PLANE_STRAIN) model%analysis = ANALYSIS_PLANE_STRAIN
+    if (deck%ndm == 3) model%analysis = ANALYSIS_3D
     model%nlgeom = deck%has_step .and. deck%step%nlgeom
     model%thickness = deck%thickness
     call build_materials(deck, model)
@@ -110,6 +112,7 @@ contains
       model%viz_samples = deck%step%field_samples
       model%restart_every = deck%step%restart_every
       call build_output(deck, model, node_map)
+      if (model%ndm == 3) call step_3d(deck, model)
     end if
     if (model%nel == 0) call input_error(deck%path, &
         'the deck defines no elements (*ELEMENT) and no patches (*PATCH)')
@@ -297,7 +300,7 @@ contains
       ! nothing merged: the plain numbering
       if (model%nmerged == 0) deallocate(model%cp_node)
     end if
-    allocate(model%x0(2, model%nn), model%weight(model%nn), model%node_id(model%nn))
+    allocate(model%x0(model%ndm, model%nn), model%weight(model%nn), model%node_id(model%nn))
     if (nfe > 0) then
       model%x0(:, 1:nfe) = deck%node_x(:, 1:nfe)
       model%node_id(1:nfe) = deck%node_ids(1:nfe)
@@ -342,7 +345,7 @@ contains
     model%nel = nel
     model%nen_max = nen_max
     allocate(model%etype(nel), model%nen(nel), model%conn(nen_max, nel), model%mat(nel), &
-        model%gauss(2, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel), &
+        model%gauss(model%ndm, nel), model%elem_id(nel), model%patch(nel), model%patch_elem(nel), &
         model%mean_dil(nel))
     ! a second model in the same process (tests, tools) replaces the first one's origins
     if (allocated(origin%where)) deallocate(origin%where)
@@ -616,8 +619,8 @@ contains
     type(id_map_t), intent(in) :: node_map
     logical, allocatable :: mask(:)
     integer :: k, d
-    allocate(model%fixed(2, model%nn), source=.false.)
-    allocate(model%u_fixed(2, model%nn), model%v0(2, model%nn), source=0.0_dp)
+    allocate(model%fixed(model%ndm, model%nn), source=.false.)
+    allocate(model%u_fixed(model%ndm, model%nn), model%v0(model%ndm, model%nn), source=0.0_dp)
     allocate(mask(model%nn))
     do k = 1, deck%n_boundaries
       associate (b => deck%boundaries(k))
@@ -625,7 +628,7 @@ contains
         call resolve_node_set(deck, model, node_map, b%target, b%where, mask, 0)
         if (.not. any(mask)) call warning(b%where, '*BOUNDARY: set '//trim(b%target)// &
             ' holds no nodes')
-        do d = max(b%first_dof, 1), min(b%last_dof, 2)
+        do d = max(b%first_dof, 1), min(b%last_dof, model%ndm)
           where (mask)
             model%fixed(d, :) = .true.
             model%u_fixed(d, :) = b%value
@@ -637,13 +640,37 @@ contains
       associate (v => deck%velocities(k))
         mask = .false.
         call resolve_node_set(deck, model, node_map, v%target, v%where, mask, 0)
-        if (v%dof >= 1 .and. v%dof <= 2) then
+        if (v%dof >= 1 .and. v%dof <= model%ndm) then
           where (mask) model%v0(v%dof, :) = v%value
         end if
       end associate
     end do
     where (model%fixed) model%v0 = 0.0_dp
   end subroutine build_conditions
+
+  !> The step settings that a 3D model has no solver for yet, refused at *DYNAMIC: the
+  !! assembled stiffness (2 x 2 blocks) and the consistent-mass solvers other than CG (the
+  !! Kronecker and corrector solvers are 2D, the Cholesky factor keeps 2 components). AUTO
+  !! takes the element loop (ictus_solver_internal_force) and, for a consistent mass, CG.
+  subroutine step_3d(deck, model)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(inout) :: model
+    character(len=:), allocatable :: at
+    at = trim(deck%step%dynamic_where)
+    if (model%force_kind == FORCE_ASSEMBLED) call input_error(at, '*DYNAMIC, EXPLICIT: '// &
+        'INTERNAL FORCE=ASSEMBLED: not yet in 3D (the assembled stiffness has 2 x 2 blocks); '// &
+        'a 3D model forms the internal force element by element (INTERNAL FORCE=ELEMENT, '// &
+        'which AUTO takes)')
+    select case (model%mass_solver)
+    case (MASS_SOLVER_AUTO)
+      model%mass_solver = MASS_SOLVER_CG
+    case (MASS_SOLVER_KRONECKER, MASS_SOLVER_CORRECTOR, MASS_SOLVER_CHOLESKY)
+      if (.not. any(model%mass_kind == MASS_CONSISTENT)) return
+      call input_error(at, '*DYNAMIC, EXPLICIT: MASS SOLVER='// &
+          trim(deck%step%mass_solver)//': not yet in 3D; a consistent mass of hexahedra is '// &
+          'solved by MASS SOLVER=CG (which AUTO takes in 3D)')
+    end select
+  end subroutine step_3d
 
   !> *MASS (default HRZ everywhere) and *DAMPING, applied in deck order.
   subroutine build_mass_damping(deck, model)

@@ -25,6 +25,7 @@ module ictus_app_driver
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_min_entry, &
       mass_steps_fused, MASS_SOLVER_CG, MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER
   use ictus_solver_timestep, only: omega_max_power
+  use ictus_solver_force_element, only: element_force_t, element_loop_init
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_ratio, &
       contact_bipenalty_init
   use ictus_contact_contact, only: contact_t, PAIR_TIE
@@ -85,7 +86,7 @@ contains
           'MASS SOLVER=CHOLESKY or CG, or TYPE=CONSISTENT only on patches and Q4 elements')
       if (error_count() > 0) call input_failure()
     end if
-    if (ops%consistent) call tensor_layout(model, layout)
+    if (ops%consistent .and. model%ndm == 2) call tensor_layout(model, layout)
     call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, &
         model%fixed(:, dom%halo%gid), model%mass_tol, model%mass_solver, ierr, &
         model%mass_passes, layout)
@@ -99,7 +100,7 @@ contains
       call fatal('consistent mass', mop%setup_msg, 1)
     end if
     call phase('contact and mass operator set up', t0)
-    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
+    call estimate_omega(model, dom, ops, mop, omega, iters)
     call phase('omega_max estimated', t0)
     dt_crit = huge(1.0_dp)
     if (omega > 0.0_dp) dt_crit = 2.0_dp/omega
@@ -172,6 +173,28 @@ contains
     call log_info(deck_echo(deck, .false.))
     call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
+
+  !> omega_max of the model without contact (ictus_solver_timestep): from the assembled K in
+  !! 2D; in 3D from the element loop's stiffness product, whose stored geometry is freed on
+  !! return (the stepper sets up its own).
+  subroutine estimate_omega(model, dom, ops, mop, omega, iters)
+    type(model_t), intent(in) :: model
+    type(domain_t), intent(inout) :: dom
+    type(operators_t), intent(in) :: ops
+    type(mass_op_t), intent(inout) :: mop
+    real(dp), intent(out) :: omega
+    integer, intent(out) :: iters
+    type(element_force_t) :: kel
+    integer :: ierr
+    if (model%ndm == 2) then
+      call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
+      return
+    end if
+    call element_loop_init(kel, model, dom, ierr)
+    if (ierr /= 0) call fatal('stable step', 'the geometry of element '//str(ierr)// &
+        ' cannot be set up (det J <= 0)')
+    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000, kel)
+  end subroutine estimate_omega
 
   !> The penalty of each *TIE without PENALTY=: the one that puts its contact ratio at
   !! r = 0.9 at the run's step dt, logged (doc/contact.md §4b: near r = 1 the predictor-

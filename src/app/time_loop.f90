@@ -616,6 +616,7 @@ contains
     associate (s => stp%s, dom => stp%dom, model => stp%model)
       do i = 1, dom%nowned
         vi = s%v(1, i)**2 + s%v(2, i)**2
+        if (size(s%v, 1) == 3) vi = vi + s%v(3, i)**2
         if (.not. ieee_is_finite(vi)) vi = huge(1.0_dp)
         if (vi > vmax) then
           vmax = vi
@@ -629,7 +630,9 @@ contains
       worst = max(worst, 1)
       msg = 'step '//str(s%step)//', t = '//str(s%t)//': '//why//'; worst at node '// &
           str(model%node_id(worst))//' ('//str(model%x0(1, worst), 6)//', '// &
-          str(model%x0(2, worst), 6)//')'
+          str(model%x0(2, worst), 6)
+      if (model%ndm == 3) msg = msg//', '//str(model%x0(3, worst), 6)
+      msg = msg//')'
     end associate
     call results_close(lp%res, 'failed: '//msg)
     call log_info('results so far: '//lp%res%path)

@@ -163,7 +163,7 @@ contains
     allocate(ck%field_steps(nf), ck%field_times(nf))
     call h5u_read(f, 'field_steps', ck%field_steps)
     call h5u_read(f, 'field_times', ck%field_times)
-    allocate(x(2, nn))
+    allocate(x(size(s%u, 1), nn))
     call h5u_read(f, 'u', x)
     s%u = x(:, dom%halo%gid)
     call h5u_read(f, 'v', x)

@@ -24,7 +24,8 @@ module ictus_io_deck_card
   public :: card_error, check_params, get_param, has_param, has_flag, get_name, get_choice, &
       get_ints, get_reals, get_positive
   public :: no_data, has_data, one_line, line_reals, stream_reals, count_ok, tok_int, &
-      tok_real, tok_name, tok_target, plural, target_dof_value, LINE_OK, LINE_STOP, LINE_SKIP
+      tok_real, tok_name, tok_target, plural, target_dof_value, dof_names, LINE_OK, LINE_STOP, &
+      LINE_SKIP
 
   !> One card being read: its keyword line and the range of its data lines.
   type :: card_t
@@ -493,10 +494,11 @@ contains
 
   !> A data line "node set or node id, dof, value" of `card` (*CLOAD, *INITIAL CONDITIONS):
   !! LINE_OK; LINE_STOP after an error in its form (the card's other lines are not read);
-  !! LINE_SKIP after a dof outside 1..2 (the next line is read).
-  integer function target_dof_value(text, card, expect, where, target, dof, value) &
+  !! LINE_SKIP after a dof outside 1..ndm (the next line is read).
+  integer function target_dof_value(text, card, expect, where, target, dof, value, ndm) &
       result(status)
     character(len=*), intent(in) :: text, card, expect, where
+    integer, intent(in) :: ndm
     character(len=*), intent(out) :: target
     integer, intent(out) :: dof
     real(dp), intent(out) :: value
@@ -511,10 +513,21 @@ contains
     if (.not. tok_int(toks, 2, expect, where, dof)) return
     if (.not. tok_real(toks, 3, expect, where, value)) return
     status = LINE_OK
-    if (dof >= 1 .and. dof <= 2) return
-    call input_error(where, card//': dof '//str(dof)//' outside 1..2 (1 = x, 2 = y)')
+    if (dof >= 1 .and. dof <= ndm) return
+    call input_error(where, card//': dof '//str(dof)//' outside 1..'//str(ndm)//' ('// &
+        dof_names(ndm)//')')
     status = LINE_SKIP
   end function target_dof_value
+
+  !> What the dofs of a model of dimension ndm are, for messages: "1 = x, 2 = y" (2D; dof 3
+  !! would need *ANALYSIS, TYPE=3D) or "1 = x, 2 = y, 3 = z".
+  function dof_names(ndm) result(t)
+    integer, intent(in) :: ndm
+    character(len=:), allocatable :: t
+    t = '1 = x, 2 = y'
+    if (ndm == 3) t = t//', 3 = z'
+    if (ndm == 2) t = t//'; dof 3 (z) is in a 3D analysis, *ANALYSIS, TYPE=3D'
+  end function dof_names
 
   !> Token `k` as a node set name or a node id (stored as its canonical digits).
   logical function tok_target(toks, k, expect, where, target) result(ok)

@@ -10,7 +10,8 @@ module ictus_io_deck_conditions
   use ictus_io_deck_types, only: deck_t, boundary_in_t, velocity_in_t, BC_DISPLACEMENT, &
       BC_VELOCITY
   use ictus_io_deck_card, only: card_t, reader_t, check_params, get_choice, get_name, &
-      has_data, count_ok, tok_int, tok_real, tok_target, target_dof_value, LINE_STOP, LINE_SKIP
+      has_data, count_ok, tok_int, tok_real, tok_target, target_dof_value, dof_names, &
+      LINE_STOP, LINE_SKIP
   use ictus_io_deck_grow, only: grow_boundaries, grow_velocities
   implicit none
   private
@@ -59,10 +60,11 @@ contains
           if (.not. tok_real(toks, 4, expect, w, b%value)) return
         end if
       end if
-      if (b%first_dof < 1 .or. b%first_dof > 2 .or. b%last_dof < 1 .or. b%last_dof > 2 &
-          .or. b%first_dof > b%last_dof) then
+      if (b%first_dof < 1 .or. b%first_dof > d%ndm .or. b%last_dof < 1 .or. &
+          b%last_dof > d%ndm .or. b%first_dof > b%last_dof) then
         call input_error(w, '*BOUNDARY: dofs '//str(b%first_dof)//' to '// &
-            str(b%last_dof)//': expected 1 <= first dof <= last dof <= 2 (1 = x, 2 = y)')
+            str(b%last_dof)//': expected 1 <= first dof <= last dof <= '//str(d%ndm)// &
+            ' ('//dof_names(d%ndm)//')')
         cycle
       end if
       b%where = w
@@ -90,7 +92,7 @@ contains
     do i = c%first, c%last
       w = line_where(rd%src, i)
       select case (target_dof_value(rd%src%lines(i)%text, '*INITIAL CONDITIONS', expect, w, &
-          v%target, v%dof, v%value))
+          v%target, v%dof, v%value, d%ndm))
       case (LINE_STOP)
         return
       case (LINE_SKIP)

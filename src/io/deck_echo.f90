@@ -61,8 +61,12 @@ contains
         call put(t, trim(deck%title))
       end if
     end if
-    call put(t, '*ANALYSIS, TYPE='//trim(merge('PLANE STRESS', 'PLANE STRAIN', &
-        deck%analysis == ANALYSIS_PLANE_STRESS))//', THICKNESS='//real_text(deck%thickness))
+    if (deck%ndm == 3) then
+      call put(t, '*ANALYSIS, TYPE=3D')
+    else
+      call put(t, '*ANALYSIS, TYPE='//trim(merge('PLANE STRESS', 'PLANE STRAIN', &
+          deck%analysis == ANALYSIS_PLANE_STRESS))//', THICKNESS='//real_text(deck%thickness))
+    end if
     call echo_materials(deck, t)
     call echo_mesh(deck, full, rec, t)
     call echo_patches(deck, full, rec, t)
@@ -123,8 +127,11 @@ contains
         call marker(t, record_path('nodes', 1), d%n_nodes)
       else
         do k = 1, nshow
-          call put(t, str(d%node_ids(k))//', '//real_text(d%node_x(1, k))//', '// &
-              real_text(d%node_x(2, k)))
+          line = str(d%node_ids(k))
+          do a = 1, d%ndm
+            line = line//', '//real_text(d%node_x(a, k))
+          end do
+          call put(t, line)
         end do
         call more(t, d%n_nodes - nshow)
       end if
@@ -437,6 +444,7 @@ contains
         else
           line = trim(l%target)//', GRAV, '//real_text(l%value)//', '//real_text(l%dir(1))// &
               ', '//real_text(l%dir(2))
+          if (d%ndm == 3) line = line//', '//real_text(l%dir(3))
         end if
         call put(t, line)
       end associate

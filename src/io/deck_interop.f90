@@ -18,7 +18,7 @@ module ictus_io_deck_interop
   use ictus_core_strings, only: str
   use ictus_io_deck_lexer, only: token_t, line_where, split_fields
   use ictus_io_deck_types, only: deck_t, element_block_in_t, section_in_t, set_in_t, &
-      SET_NODE, SET_ELEMENT, ANALYSIS_PLANE_STRAIN
+      SET_NODE, SET_ELEMENT, ANALYSIS_PLANE_STRAIN, ANALYSIS_3D
   use ictus_io_deck_card, only: card_t, reader_t, card_error, check_params, get_name, &
       count_ok, tok_real
   implicit none
@@ -292,6 +292,7 @@ contains
     integer, intent(in) :: a
     character(len=:), allocatable :: r
     r = trim(merge('plane strain', 'plane stress', a == ANALYSIS_PLANE_STRAIN))
+    if (a == ANALYSIS_3D) r = '3D'
   end function analysis_text
 
   !> The thickness of the sections: one value for the model, equal to *ANALYSIS, THICKNESS=

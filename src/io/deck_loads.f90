@@ -79,7 +79,7 @@ contains
     do i = c%first, c%last
       w = line_where(rd%src, i)
       select case (target_dof_value(rd%src%lines(i)%text, '*CLOAD', expect, w, l%target, &
-          l%dof, l%value))
+          l%dof, l%value, d%ndm))
       case (LINE_STOP)
         return
       case (LINE_SKIP)
@@ -139,14 +139,16 @@ contains
         do k = 4, n
           if (.not. tok_real(toks, k, expect, w, l%dir(k - 3))) return
         end do
-        if (l%dir(3) /= 0.0_dp) then
+        if (l%dir(3) /= 0.0_dp .and. d%ndm == 2) then
           call input_error(w, '*DLOAD, GRAV: gz = '//str(l%dir(3))//' must be 0 (the '// &
-              'model is 2D: the direction lies in the x-y plane)')
+              'model is 2D: the direction lies in the x-y plane; a 3D model needs *ANALYSIS, '// &
+              'TYPE=3D)')
           cycle
         end if
-        if (l%dir(1) == 0.0_dp .and. l%dir(2) == 0.0_dp) then
-          call input_error(w, '*DLOAD, GRAV: the direction (gx, gy) = (0, 0) is zero '// &
-              '(expected a non-zero direction; it is normalised)')
+        if (all(l%dir == 0.0_dp)) then
+          call input_error(w, '*DLOAD, GRAV: the direction '//trim(merge( &
+              '(gx, gy, gz) = (0, 0, 0)', '(gx, gy) = (0, 0)       ', d%ndm == 3))// &
+              ' is zero (expected a non-zero direction; it is normalised)')
           cycle
         end if
       case default

@@ -14,7 +14,7 @@ module ictus_io_deck_model
   use ictus_elements_library, only: element_type_named, element_types_named, &
       element_abaqus_names, element_default_ngauss, etype_ndm
   use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
-      where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, etype_nen, etype_name, SET_NODE, &
+      where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, etype_nen, etype_name, SET_NODE, &
       SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
       SIDE_ETA1, SIDE_ALL, SURF_ELEMENT, SURF_PATCH
   use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
@@ -47,7 +47,7 @@ contains
     end do
   end subroutine read_heading
 
-  !> *ANALYSIS, TYPE=PLANE STRAIN|PLANE STRESS, THICKNESS=t.
+  !> *ANALYSIS, TYPE=PLANE STRAIN|PLANE STRESS|3D, THICKNESS=t (2D only).
   subroutine read_analysis(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -58,12 +58,16 @@ contains
     call check_params(c, 'TYPE|THICKNESS', '')
     if (rd%has_analysis) call card_error(c, 'given twice (expected one *ANALYSIS card)')
     rd%has_analysis = .true.
-    call get_choice(c, 'TYPE', 'PLANE STRAIN|PLANE STRESS', kind)
+    call get_choice(c, 'TYPE', 'PLANE STRAIN|PLANE STRESS|3D', kind)
     if (kind == 1) d%analysis = ANALYSIS_PLANE_STRAIN
     if (kind == 2) d%analysis = ANALYSIS_PLANE_STRESS
+    if (kind == 3) d%analysis = ANALYSIS_3D
     if (kind > 0) d%analysis_where = c%where
     if (get_reals(c, 'THICKNESS', 1, 'a number t > 0', t)) then
-      if (t(1) > 0.0_dp) then
+      if (d%ndm == 3) then
+        call card_error(c, 'THICKNESS= is the thickness of a 2D model; a 3D analysis has '// &
+            'none (expected *ANALYSIS, TYPE=3D without THICKNESS=)')
+      else if (t(1) > 0.0_dp) then
         d%thickness = t(1)
         d%thickness_where = c%where
       else
@@ -77,17 +81,20 @@ contains
   ! Nodes and elements
   ! ------------------------------------------------------------------------------------------
 
-  !> *NODE [, NSET=name]: data lines "id, x, y" or "id, x, y, z" with z = 0.
+  !> *NODE [, NSET=name]: data lines "id, x, y" or "id, x, y, z" with z = 0 in 2D; "id, x, y, z"
+  !! in 3D.
   subroutine read_node(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(deck_t), intent(inout) :: d
-    character(len=*), parameter :: expect = '*NODE: expected "id, x, y"'
+    character(len=:), allocatable :: expect
     character(len=str_len) :: nset
     type(token_t), allocatable :: toks(:)
     integer :: i, n, id, n0
-    real(dp) :: x, y, z
+    real(dp) :: x(3)
 
+    expect = '*NODE: expected "id, x, y"'
+    if (d%ndm == 3) expect = '*NODE: expected "id, x, y, z"'
     call check_params(c, 'NSET', '')
     call get_name(c, 'NSET', .false., nset)
     if (c%bad) return
@@ -97,20 +104,25 @@ contains
     do i = c%first, c%last
       call rd%tk%tick(i, rd%src%n_lines)
       call split_values(rd%src%lines(i)%text, toks, n)
-      if (n < 3) then
+      if (n < d%ndm + 1) then
         call input_error(line_where(rd%src, i), expect//', found '//str(n)//' value'// &
-            plural(n)//' (a node needs 2 coordinates)')
+            plural(n)//' (a node needs '//str(d%ndm)//' coordinates'// &
+            trim(merge(' in a 3D analysis', '                 ', d%ndm == 3))//')')
         exit
       end if
-      if (.not. count_ok(n, 3, 4, expect, line_where(rd%src, i))) exit
+      if (.not. count_ok(n, d%ndm + 1, 4, expect, line_where(rd%src, i))) exit
       if (.not. tok_int(toks, 1, expect, line_where(rd%src, i), id)) exit
-      if (.not. tok_real(toks, 2, expect, line_where(rd%src, i), x)) exit
-      if (.not. tok_real(toks, 3, expect, line_where(rd%src, i), y)) exit
-      if (n == 4) then
-        if (.not. tok_real(toks, 4, expect//' or "id, x, y, z"', line_where(rd%src, i), z)) exit
-        if (z /= 0.0_dp) then
+      if (.not. tok_real(toks, 2, expect, line_where(rd%src, i), x(1))) exit
+      if (.not. tok_real(toks, 3, expect, line_where(rd%src, i), x(2))) exit
+      if (n == 4 .and. d%ndm == 3) then
+        if (.not. tok_real(toks, 4, expect, line_where(rd%src, i), x(3))) exit
+      else if (n == 4) then
+        if (.not. tok_real(toks, 4, expect//' or "id, x, y, z"', line_where(rd%src, i), &
+            x(3))) exit
+        if (x(3) /= 0.0_dp) then
           call input_error(line_where(rd%src, i), '*NODE: node '//str(id)//' has z = '// &
-              str(z)//', but the analysis is 2D (expected z = 0, or "id, x, y")')
+              str(x(3))//', but the analysis is 2D (expected z = 0, or "id, x, y"; a 3D '// &
+              'model needs *ANALYSIS, TYPE=3D)')
           exit
         end if
       end if
@@ -120,7 +132,7 @@ contains
       end if
       d%n_nodes = d%n_nodes + 1
       d%node_ids(d%n_nodes) = id
-      d%node_x(:, d%n_nodes) = [x, y]
+      d%node_x(:, d%n_nodes) = x(1:d%ndm)
       d%node_where(d%n_nodes) = line_where(rd%src, i)
     end do
     if (len_trim(nset) > 0) call add_to_set(d, nset, SET_NODE, c%where, &
@@ -138,7 +150,7 @@ contains
     integer :: cap
     if (n <= rd%node_cap) return
     cap = max(n, 2*rd%node_cap)
-    allocate(ids(cap), x(2, cap), w(cap))
+    allocate(ids(cap), x(d%ndm, cap), w(cap))
     ids(1:d%n_nodes) = d%node_ids(1:d%n_nodes)
     x(:, 1:d%n_nodes) = d%node_x(:, 1:d%n_nodes)
     w(1:d%n_nodes) = d%node_where(1:d%n_nodes)
@@ -148,10 +160,12 @@ contains
     rd%node_cap = cap
   end subroutine reserve_nodes
 
-  !> *ELEMENT, TYPE=Q4|Q8|Q9 (or an Abaqus name), [MATERIAL=name] [, ELSET=name]
-  !! [, GAUSS=2|3] [, DILATATION=FULL|MEAN]: data lines "id, n1, ..., nen". Data lines from different files go to
-  !! separate blocks. Line elements (T3D2, T3D3, as gmsh writes a boundary) go to
-  !! `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
+  !> *ELEMENT, TYPE=Q4|Q8|Q9 (or an Abaqus name; in 3D C3D8, C3D20, C3D20R, C3D27),
+  !! [MATERIAL=name] [, ELSET=name] [, GAUSS=2|3] [, DILATATION=FULL|MEAN]: data lines
+  !! "id, n1, ..., nen"; a line that ends with a comma before all nen nodes are given goes on
+  !! to the next line (as Abaqus and gmsh write 20- and 27-node elements). Data lines from
+  !! different files go to separate blocks. Line elements (T3D2, T3D3, as gmsh writes a
+  !! boundary) go to `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
   subroutine read_element(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -159,12 +173,12 @@ contains
     character(len=:), allocatable :: expect
     type(element_block_in_t) :: b
     type(token_t), allocatable :: toks(:)
-    character(len=:), allocatable :: w
-    integer :: i, n, k, nel, g(1), file, id, conn(9), gauss
+    character(len=:), allocatable :: w, text
+    integer :: i, i0, n, k, nel, g(1), file, id, conn(27), gauss
     logical :: ok
 
     call check_params(c, 'TYPE|ELSET|MATERIAL|GAUSS|DILATATION', '')
-    call get_element_type(c, b, gauss)
+    call get_element_type(c, d, b, gauss)
     call get_choice(c, 'DILATATION', 'FULL|MEAN', b%dilatation)
     call get_name(c, 'MATERIAL', .false., b%material)
     call get_name(c, 'ELSET', .false., b%elset)
@@ -173,7 +187,7 @@ contains
         call card_error(c, 'bad value GAUSS='//str(g(1))//' (expected 2 or 3)')
       else if (gauss > 0 .and. g(1) /= gauss) then
         call card_error(c, 'GAUSS='//str(g(1))//' contradicts TYPE='//trim(b%type_name)// &
-            ' ('//str(gauss)//'x'//str(gauss)//' Gauss points)')
+            ' ('//gauss_text(gauss, d%ndm)//' Gauss points)')
       else
         b%gauss = g(1)
       end if
@@ -190,13 +204,17 @@ contains
     file = 0
     allocate(b%ids(c%last - c%first + 1), b%conn(b%nen, c%last - c%first + 1), &
         b%line(c%last - c%first + 1))
-    do i = c%first, c%last
+    i = c%first
+    do while (i <= c%last)
       call rd%tk%tick(i, rd%src%n_lines)
       if (rd%src%lines(i)%file /= file .and. nel > 0) call push_block(d, b, nel)
       file = rd%src%lines(i)%file
       b%file = rd%src%files(file)%s
       w = line_where(rd%src, i)
-      call split_values(rd%src%lines(i)%text, toks, n)
+      i0 = i
+      call element_text(rd, i, c%last, b%nen + 1, text)
+      call split_values(text, toks, n)
+      i = i + 1
       if (.not. count_ok(n, b%nen + 1, b%nen + 1, expect, w)) exit
       ok = tok_int(toks, 1, expect, w, id)
       do k = 2, n
@@ -207,10 +225,40 @@ contains
       nel = nel + 1
       b%ids(nel) = id
       b%conn(:, nel) = conn(1:b%nen)
-      b%line(nel) = rd%src%lines(i)%line
+      b%line(nel) = rd%src%lines(i0)%line
     end do
     if (nel > 0) call push_block(d, b, nel)
   end subroutine read_element
+
+  !> The text of the element whose data starts at line i (at most `last`): the line, joined
+  !! with the next ones while it ends with a comma and holds fewer than `nval` values (an
+  !! element continued over several lines); i is left at its last line.
+  subroutine element_text(rd, i, last, nval, text)
+    type(reader_t), intent(in) :: rd
+    integer, intent(inout) :: i
+    integer, intent(in) :: last, nval
+    character(len=:), allocatable, intent(out) :: text
+    type(token_t), allocatable :: toks(:)
+    integer :: n
+    text = rd%src%lines(i)%text
+    do while (i < last)
+      if (len_trim(text) == 0) exit
+      if (text(len_trim(text):len_trim(text)) /= ',') exit
+      if (rd%src%lines(i + 1)%file /= rd%src%lines(i)%file) exit
+      call split_values(text, toks, n)
+      if (n >= nval) exit
+      i = i + 1
+      text = text//' '//rd%src%lines(i)%text
+    end do
+  end subroutine element_text
+
+  !> "2x2" (or "2x2x2" in 3D) for n points per direction.
+  pure function gauss_text(n, ndm) result(t)
+    integer, intent(in) :: n, ndm
+    character(len=:), allocatable :: t
+    t = str(n)//'x'//str(n)
+    if (ndm == 3) t = t//'x'//str(n)
+  end function gauss_text
 
   !> Checks one element's ids: positive, no node used twice.
   logical function element_ok(id, conn, where) result(ok)
@@ -283,40 +331,56 @@ contains
 
   !> TYPE= of *ELEMENT: a type of the element library by its name or Abaqus name (b%etype,
   !! b%nen, b%analysis it implies; `gauss` the rule the name implies, 0: the type's own), or a
-  !! line element T3D2/T3D3 (b%etype = 0, b%nen = 2 or 3). b%nen = 0 when bad (reported).
-  subroutine get_element_type(c, b, gauss)
+  !! line element T3D2/T3D3 (b%etype = 0, b%nen = 2 or 3). The type must have the dimension
+  !! of the deck (d%ndm). b%nen = 0 when bad (reported).
+  subroutine get_element_type(c, d, b, gauss)
     type(card_t), intent(inout) :: c
+    type(deck_t), intent(in) :: d
     type(element_block_in_t), intent(inout) :: b
     integer, intent(out) :: gauss
     character(len=:), allocatable :: v
     gauss = 0
     b%nen = 0
     if (.not. get_param(c, 'TYPE', v)) then
-      call card_error(c, 'missing required parameter TYPE=Q4|Q8|Q9')
+      call card_error(c, 'missing required parameter TYPE=Q4|Q8|Q9'// &
+          trim(merge('|C3D8|C3D20|C3D20R|C3D27', '                        ', d%ndm == 3)))
       return
     end if
     b%type_name = upper(collapse_blanks(v))
     call element_type_named(b%type_name, b%etype, b%analysis, gauss)
-    ! the element library has the hexahedra (C3D8, C3D20, C3D27), the model not yet (issue
-    ! #30): the deck refuses them as any other unknown name
     if (b%etype > 0) then
-      if (etype_ndm(b%etype) /= 2) then
-        b%etype = 0
-        b%analysis = 0
-        gauss = 0
+      if (etype_ndm(b%etype) /= d%ndm) then
+        call card_error(c, 'bad value TYPE='//shown(v)//': '//dimension_text(b, d))
+        return
       end if
-    end if
-    if (b%etype > 0) then
       b%nen = etype_nen(b%etype)
     else if (b%type_name == 'T3D2' .or. b%type_name == 'T3D3') then
       b%nen = merge(2, 3, b%type_name == 'T3D2')
     else
       call card_error(c, 'bad value TYPE='//shown(v)//' (expected one of '// &
-          element_types_named(2)//'; or the Abaqus names '//element_abaqus_names(2)// &
-          '; ictus has no triangles, axisymmetric, 3D, beam or shell elements; line '// &
-          'elements T3D2, T3D3 are read as sets of boundary nodes)')
+          element_types_named(d%ndm)//'; or the Abaqus names '// &
+          element_abaqus_names(d%ndm)//'; ictus has no triangles, tetrahedra, '// &
+          'axisymmetric, beam or shell elements; line elements T3D2, T3D3 are read as sets '// &
+          'of boundary nodes)')
     end if
   end subroutine get_element_type
+
+  !> Why element type b%etype does not fit the analysis of deck d (a 3D type in a 2D
+  !! analysis, or a 2D type in a 3D one), with the types that would.
+  function dimension_text(b, d) result(msg)
+    type(element_block_in_t), intent(in) :: b
+    type(deck_t), intent(in) :: d
+    character(len=:), allocatable :: msg
+    if (d%ndm == 2) then
+      msg = trim(b%type_name)//' is a 3D element, which needs *ANALYSIS, TYPE=3D; this '// &
+          'analysis is 2D (expected one of '//element_types_named(2)//', or the Abaqus names '// &
+          element_abaqus_names(2)//')'
+    else
+      msg = trim(b%type_name)//' is a 2D element, but the analysis is 3D (*ANALYSIS, '// &
+          'TYPE=3D; expected one of '//element_types_named(3)//', or the Abaqus names '// &
+          element_abaqus_names(3)//')'
+    end if
+  end function dimension_text
 
   ! ------------------------------------------------------------------------------------------
   ! Sets and surfaces
@@ -489,7 +553,7 @@ contains
       if (.not. read_surface_sides(c, rd, s, side)) return
     else
       s%kind = SURF_ELEMENT
-      if (.not. read_surface_faces(c, rd, s)) return
+      if (.not. read_surface_faces(c, rd, s, d%ndm)) return
     end if
     call grow_surfaces(d%surfaces, d%n_surfaces + 1)
     d%n_surfaces = d%n_surfaces + 1
@@ -598,18 +662,20 @@ contains
     ok = .true.
   end function read_surface_sides
 
-  !> Data of *SURFACE, TYPE=ELEMENT: lines "element id or elset name, S1..S4".
-  logical function read_surface_faces(c, rd, s) result(ok)
+  !> Data of *SURFACE, TYPE=ELEMENT: lines "element id or elset name, face": S1..S4 on the
+  !! quadrilaterals of a 2D analysis, S1..S6 on the hexahedra of a 3D one (ndm).
+  logical function read_surface_faces(c, rd, s, ndm) result(ok)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(surface_in_t), intent(inout) :: s
-    character(len=*), parameter :: expect = &
-        '*SURFACE: expected "element id or element set, face S1..S4"'
-    character(len=:), allocatable :: w, face
+    integer, intent(in) :: ndm
+    character(len=:), allocatable :: expect, w, face
     type(token_t), allocatable :: toks(:)
-    integer :: i, n, m, id
+    integer :: i, n, m, id, nface
     logical :: is_int
 
+    nface = merge(6, 4, ndm == 3)
+    expect = '*SURFACE: expected "element id or element set, face S1..S'//str(nface)//'"'
     ok = .false.
     if (.not. has_data(c, expect)) return
     m = c%last - c%first + 1
@@ -635,9 +701,18 @@ contains
       select case (face)
       case ('S1', 'S2', 'S3', 'S4')
         s%face(n) = iachar(face(2:2)) - iachar('0')
+      case ('S5', 'S6')
+        if (ndm /= 3) then
+          call input_error(w, '*SURFACE: face '//face//' in field 2: the quadrilaterals '// &
+              'of a 2D analysis have the faces S1, S2, S3 and S4 (S5 and S6 are faces of '// &
+              'the hexahedra of a 3D analysis, *ANALYSIS, TYPE=3D)')
+          return
+        end if
+        s%face(n) = iachar(face(2:2)) - iachar('0')
       case default
         call input_error(w, '*SURFACE: unknown face "'//shown(toks(2)%s)// &
-            '" in field 2 (expected S1, S2, S3 or S4)')
+            '" in field 2 (expected '//trim(merge('S1, S2, S3, S4, S5 or S6', &
+            'S1, S2, S3 or S4        ', ndm == 3))//')')
         return
       end select
       s%entry_where(n) = w

@@ -25,7 +25,9 @@ module ictus_io_deck_reader
   use ictus_core_errors, only: input_error, error_count
   use ictus_core_strings, only: str
   use ictus_core_ticker, only: ticker_start
-  use ictus_io_deck_lexer, only: keyword_t, load_deck, line_where, parse_keyword, shown
+  use ictus_core_strings, only: upper
+  use ictus_io_deck_lexer, only: keyword_t, load_deck, line_where, parse_keyword, shown, &
+      deck_source_t, token_t, split_values
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_checks, only: check_deck, SKIP_MATERIALS, SKIP_NODES, SKIP_ELEMENTS, &
       SKIP_SETS, SKIP_PATCHES, SKIP_SURFACES
@@ -69,6 +71,11 @@ contains
       return
     end if
     rd%tk%name = 'deck reading, cards'
+    deck%ndm = deck_dimension(rd%src)
+    if (deck%ndm /= 2) then
+      deallocate(deck%node_x)
+      allocate(deck%node_x(deck%ndm, 0))
+    end if
     i = 1
     if (.not. rd%src%lines(1)%is_keyword) then
       call input_error(line_where(rd%src, 1), 'data line "'//shown(rd%src%lines(1)%text)// &
@@ -100,6 +107,33 @@ contains
     end do
     call finish_deck(rd, deck)
   end subroutine read_deck
+
+  !> The dimension of the deck: 3 when a keyword line *ANALYSIS has the parameter TYPE=3D,
+  !! else 2. Looked for before the cards are read, so that every card is read against it
+  !! whatever the order of the cards (the line itself is read by read_analysis, which
+  !! reports what is wrong with it).
+  integer function deck_dimension(src) result(ndm)
+    type(deck_source_t), intent(in) :: src
+    type(token_t), allocatable :: fields(:)
+    character(len=:), allocatable :: t
+    integer :: i, k, n
+    ndm = 2
+    do i = 1, src%n_lines
+      if (.not. src%lines(i)%is_keyword) cycle
+      ! the fields without blanks: "*ANALYSIS", "TYPE=3D", ...
+      t = ''
+      do k = 1, len(src%lines(i)%text)
+        if (src%lines(i)%text(k:k) /= ' ' .and. iachar(src%lines(i)%text(k:k)) /= 9) &
+            t = t//src%lines(i)%text(k:k)
+      end do
+      call split_values(upper(t), fields, n)
+      if (n < 2) cycle
+      if (fields(1)%s /= '*ANALYSIS') cycle
+      do k = 2, n
+        if (fields(k)%s == 'TYPE=3D') ndm = 3
+      end do
+    end do
+  end function deck_dimension
 
   !> Remembers which kind of definition a card with errors was (to avoid follow-up errors).
   subroutine note_broken(kw, rd)
@@ -222,6 +256,10 @@ contains
       return
     end if
 
+    if (d%ndm == 3 .and. len(not_yet_3d(c%kw%name)) > 0) then
+      call input_error(c%where, c%label//': not yet in 3D: '//not_yet_3d(c%kw%name))
+      return
+    end if
     select case (c%kw%name)
     case ('HEADING')
       call read_heading(c, rd, d)
@@ -299,6 +337,23 @@ contains
       end if
     end select
   end subroutine read_card
+
+  !> What a card of a 3D deck asks for that ictus does not have in 3D yet ('' for the cards
+  !! that 3D takes): trivariate NURBS patches and contact come after the hexahedra.
+  pure function not_yet_3d(name) result(what)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: what
+    select case (name)
+    case ('PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE')
+      what = 'trivariate NURBS patches (*PATCH, *KNOTS, *CONTROL POINTS, *ELEVATE, '// &
+          '*REFINE); a 3D model takes the hexahedra C3D8, C3D20, C3D20R and C3D27'
+    case ('CONTACT PAIR', 'TIE', 'RIGID WALL')
+      what = 'contact (*CONTACT PAIR, *TIE, *RIGID WALL) between the faces of hexahedra; a '// &
+          'symmetry plane or a fixed support is a *BOUNDARY'
+    case default
+      what = ''
+    end select
+  end function not_yet_3d
 
   !> True for every card name this reader knows.
   pure logical function is_known_card(name)

@@ -96,7 +96,7 @@ contains
     type(digest_t) :: h
     integer :: k
     call add_ints(h, d%node_ids(1:d%n_nodes))
-    call add_reals(h, reshape(d%node_x(:, 1:d%n_nodes), [2*d%n_nodes]))
+    call add_reals(h, reshape(d%node_x(:, 1:d%n_nodes), [size(d%node_x, 1)*d%n_nodes]))
     do k = 1, d%n_blocks
       call add_ints(h, [d%blocks(k)%nen, size(d%blocks(k)%ids)])
       call add_ints(h, d%blocks(k)%ids)

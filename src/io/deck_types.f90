@@ -21,7 +21,7 @@ module ictus_io_deck_types
       interaction_in_t, &
       amplitude_in_t, cload_in_t, dload_in_t, DLOAD_PRESSURE, DLOAD_GRAV, &
       AMP_DEF_TABULAR, AMP_DEF_SMOOTH_STEP, BC_DISPLACEMENT, BC_VELOCITY, &
-      ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, &
+      ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
       ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
       SET_NODE, SET_ELEMENT, &
       SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, side_name, &
@@ -34,7 +34,8 @@ module ictus_io_deck_types
   !> Length of a "file:line" location string.
   integer, parameter :: where_len = 320
 
-  integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2
+  !> *ANALYSIS, TYPE=: the codes of ictus_materials_law (and of `element_type_named`).
+  integer, parameter :: ANALYSIS_PLANE_STRAIN = 1, ANALYSIS_PLANE_STRESS = 2, ANALYSIS_3D = 3
   integer, parameter :: SET_NODE = 1, SET_ELEMENT = 2
   integer, parameter :: SURF_ELEMENT = 1, SURF_PATCH = 2
   integer, parameter :: OP_ELEVATE = 1, OP_REFINE = 2
@@ -124,7 +125,7 @@ module ictus_io_deck_types
     character(len=str_len) :: name = ''
     !> SURF_ELEMENT or SURF_PATCH.
     integer :: kind = 0
-    !> TYPE=ELEMENT: element id (0 when `elset` is used) and face 1..4 of each entry.
+    !> TYPE=ELEMENT: element id (0 when `elset` is used) and face 1..4 (1..6 in 3D) of each entry.
     integer, allocatable :: elem(:)
     integer, allocatable :: face(:)
     !> TYPE=ELEMENT: element set name of each entry ('' when `elem` is used).
@@ -355,12 +356,16 @@ module ictus_io_deck_types
     character(len=:), allocatable :: path
     character(len=:), allocatable :: title
     integer :: analysis = ANALYSIS_PLANE_STRAIN
+    !> The dimension: 3 when *ANALYSIS, TYPE=3D (anywhere in the deck), else 2. The reader
+    !! knows it before the first card, so that nodes, element types, dofs and faces are
+    !! checked against it where they are read.
+    integer :: ndm = 2
     real(dp) :: thickness = 1.0_dp
     !> Where *ANALYSIS gave THICKNESS= ('' when it did not).
     character(len=where_len) :: thickness_where = ''
     integer :: n_materials = 0
     type(material_in_t), allocatable :: materials(:)
-    !> FE nodes: ids (n) and coordinates (2, n), in deck order.
+    !> FE nodes: ids (n) and coordinates (ndm, n), in deck order.
     integer :: n_nodes = 0
     integer, allocatable :: node_ids(:)
     real(dp), allocatable :: node_x(:,:)

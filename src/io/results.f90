@@ -8,13 +8,13 @@
 module ictus_io_results
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower
-  use ictus_elements_types, only: ETYPE_IGA
-  use ictus_elements_library, only: etype_name, etype_nen, element_type_count
+  use ictus_elements_types, only: ETYPE_IGA, element_kind_t
+  use ictus_elements_library, only: etype_name, etype_nen, element_type_count, element_kind
   use ictus_contact_contact, only: contact_t
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_solver_model, only: NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
       VAR_PEEQ, VAR_RF
-  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN
+  use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_3D
   use ictus_solver_domain, only: domain_t
   use ictus_solver_fields, only: element_fields_t
   use ictus_io_iga_viz, only: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, &
@@ -130,12 +130,15 @@ contains
     call h5u_attr_string(r%file, 'version', ictus_version_string())
     call h5u_attr_int(r%file, 'format_version', 1)
     call h5u_attr_string(r%file, 'title', model%title)
-    if (model%analysis == ANALYSIS_PLANE_STRAIN) then
+    if (model%analysis == ANALYSIS_3D) then
+      call h5u_attr_string(r%file, 'analysis', '3D')
+    else if (model%analysis == ANALYSIS_PLANE_STRAIN) then
       call h5u_attr_string(r%file, 'analysis', 'plane strain')
     else
       call h5u_attr_string(r%file, 'analysis', 'plane stress')
     end if
-    call h5u_attr_real(r%file, 'thickness', model%thickness)
+    call h5u_attr_int(r%file, 'dimension', model%ndm)
+    if (model%ndm == 2) call h5u_attr_real(r%file, 'thickness', model%thickness)
     call h5u_attr_int(r%file, 'ranks', ranks)
     call h5u_attr_string(r%file, 'deck', deck_text)
     call h5u_attr_real(r%file, 'omega_max', omega_max)
@@ -275,6 +278,7 @@ contains
     integer :: t, ne, e, k, ip, nen
     integer, allocatable :: conn(:,:), ids(:)
     character(len=:), allocatable :: tname
+    type(element_kind_t) :: kd
     call h5u_group(r%file, 'model', g)
     call h5u_write(g, 'coordinates', model%x0)
     call h5u_write(g, 'weights', model%weight)
@@ -297,6 +301,10 @@ contains
       tname = lower(etype_name(t))
       call h5u_group(ge, tname, gp)
       call h5u_write(gp, 'connectivity', conn)
+      ! the node order of the XDMF topology where it differs (C3D27: Hexahedron_27)
+      kd = element_kind(t)
+      if (allocated(kd%xdmf_order)) call h5u_write(gp, 'xdmf_connectivity', &
+          conn(kd%xdmf_order, :))
       call h5u_write(gp, 'ids', ids)
       call h5u_close_group(gp)
       deallocate(conn, ids)
@@ -361,14 +369,17 @@ contains
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer :: t, ne, e, q, k, s
+    type(element_kind_t) :: kd
     allocate(r%grids(0), r%block_row(model%nel), r%ncells_of(model%nel))
     r%elem_type = model%etype
     do t = 1, element_type_count()
       ne = count(model%etype == t)
       ! NURBS elements are shown on their viewing cells (below)
       if (ne == 0 .or. etype_nen(t) == 0) cycle
+      kd = element_kind(t)
       r%grids = [r%grids, xdmf_grid_t(lower(etype_name(t)), t, ne, &
-          maxval(model%nen, mask=model%etype == t), model%nn, ne == model%nel)]
+          maxval(model%nen, mask=model%etype == t), model%nn, ne == model%nel, &
+          ndm=model%ndm, permuted=allocated(kd%xdmf_order))]
     end do
     do t = 1, element_type_count()
       k = 0
@@ -674,8 +685,8 @@ contains
       call iga_viz_eval(r%viz, model, r%viz_elems, x, xv, dom%g2l)
       call h5u_write_rows(g, 'viz_'//name, xv, r%viz_mine, r%viz%ns)
     end if
-    if (any(r%grids%etype /= ETYPE_IGA)) call write_3d(g, name//'_3d', x(:, 1:size(gid)), &
-        gid, r%nn)
+    if (any(r%grids%etype /= ETYPE_IGA) .and. model%ndm == 2) call write_3d(g, name//'_3d', &
+        x(:, 1:size(gid)), gid, r%nn)
     if (r%viz%ns > 0) call write_3d(g, 'viz_'//name//'_3d', xv, r%viz_mine, r%viz%ns)
   end subroutine node_vector
 

@@ -40,6 +40,13 @@ module ictus_io_xdmf
     logical :: peeq = .true.
     logical :: stress = .true.
     logical :: strain = .false.
+    !> The dimension of the model: XY geometry and 2-component vectors (shown through their
+    !! padded copies `<name>_3d`) in 2D, XYZ and the vectors themselves in 3D.
+    integer :: ndm = 2
+    !> Whether the block's XDMF topology orders its nodes otherwise than the deck
+    !! (element_kind_t%xdmf_order, C3D27): its cells are then the dataset
+    !! `xdmf_connectivity` beside `connectivity`.
+    logical :: permuted = .false.
   end type xdmf_grid_t
 
 contains
@@ -95,6 +102,7 @@ contains
       prefix = 'viz_'
     else
       conn = ':/model/elements/'//trim(g%name)//'/connectivity'
+      if (g%permuted) conn = ':/model/elements/'//trim(g%name)//'/xdmf_connectivity'
       geom = ':/model/coordinates'
       prefix = ''
     end if
@@ -105,12 +113,12 @@ contains
     write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Int" Dimensions="', &
         g%nel, g%nen, '">'//h5//conn//'</DataItem>'
     write(u, '(a)') '     </Topology>'
-    write(u, '(a)') '     <Geometry GeometryType="XY">'
-    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
-        'Dimensions="', g%npoints, ' 2">'//h5//geom//'</DataItem>'
+    write(u, '(a)') '     <Geometry GeometryType="'//trim(merge('XYZ', 'XY ', g%ndm == 3))//'">'
+    write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', g%npoints, g%ndm, '">'//h5//geom//'</DataItem>'
     write(u, '(a)') '     </Geometry>'
-    if (g%displacement) call attribute(u, 'displacement', prefix, h5, sname, g%npoints)
-    if (g%velocity) call attribute(u, 'velocity', prefix, h5, sname, g%npoints)
+    if (g%displacement) call attribute(u, 'displacement', prefix, h5, sname, g%npoints, g%ndm)
+    if (g%velocity) call attribute(u, 'velocity', prefix, h5, sname, g%npoints, g%ndm)
     ! the von Mises stress averaged at the nodes (finite-element blocks: the grid's points are
     ! the model's nodes)
     if (g%etype /= ETYPE_IGA .and. g%mises) then
@@ -125,9 +133,12 @@ contains
     if (g%mises) call cell_scalar(u, 'element_mises', block_dataset(g, 'mises'), h5, sname, &
         g%nel)
     if (g%peeq) call cell_scalar(u, 'peeq', block_dataset(g, 'peeq'), h5, sname, g%nel)
-    ! the stress and strain tensors of each element (xx, yy, xy, zz) as 4-component cells
-    if (g%stress) call cell_matrix(u, 'stress', block_dataset(g, 'stress'), h5, sname, g%nel)
-    if (g%strain) call cell_matrix(u, 'strain', block_dataset(g, 'strain'), h5, sname, g%nel)
+    ! the stress and strain tensors of each element as 4-component cells (xx, yy, xy, zz) in
+    ! 2D, 6-component ones (xx, yy, zz, xy, yz, zx) in 3D
+    if (g%stress) call cell_matrix(u, 'stress', block_dataset(g, 'stress'), h5, sname, g%nel, &
+        merge(6, 4, g%ndm == 3))
+    if (g%strain) call cell_matrix(u, 'strain', block_dataset(g, 'strain'), h5, sname, g%nel, &
+        merge(6, 4, g%ndm == 3))
     write(u, '(a)') '    </Grid>'
   end subroutine grid
 
@@ -145,13 +156,14 @@ contains
     end if
   end function block_dataset
 
-  !> A cell field of 4 components (xx, yy, xy, zz): the (nel, 4) dataset `dataset`.
-  subroutine cell_matrix(u, name, dataset, h5, sname, nel)
-    integer, intent(in) :: u, nel
+  !> A cell field of nc components (2D: 4, xx, yy, xy, zz; 3D: 6, xx, yy, zz, xy, yz, zx): the
+  !! (nel, nc) dataset `dataset`.
+  subroutine cell_matrix(u, name, dataset, h5, sname, nel, nc)
+    integer, intent(in) :: u, nel, nc
     character(len=*), intent(in) :: name, dataset, h5, sname
     write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Matrix" Center="Cell">'
-    write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
-        'Dimensions="', nel, ' 4">'//h5//':/fields/'//sname//'/'//dataset//'</DataItem>'
+    write(u, '(a,i0,1x,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
+        'Dimensions="', nel, nc, '">'//h5//':/fields/'//sname//'/'//dataset//'</DataItem>'
     write(u, '(a)') '     </Attribute>'
   end subroutine cell_matrix
 
@@ -165,13 +177,17 @@ contains
     write(u, '(a)') '     </Attribute>'
   end subroutine cell_scalar
 
-  !> A node vector: the (n, 3) padded copy of the 2-component field.
-  subroutine attribute(u, name, prefix, h5, sname, nn)
-    integer, intent(in) :: u, nn
+  !> A node vector: the (n, 3) padded copy `<name>_3d` of the 2-component field in 2D, the
+  !! (n, 3) field itself in 3D.
+  subroutine attribute(u, name, prefix, h5, sname, nn, ndm)
+    integer, intent(in) :: u, nn, ndm
     character(len=*), intent(in) :: name, prefix, h5, sname
+    character(len=:), allocatable :: dataset
+    dataset = prefix//name//'_3d'
+    if (ndm == 3) dataset = prefix//name
     write(u, '(a)') '     <Attribute Name="'//name//'" AttributeType="Vector" Center="Node">'
     write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
-        'Dimensions="', nn, ' 3">'//h5//':/fields/'//sname//'/'//prefix//name//'_3d</DataItem>'
+        'Dimensions="', nn, ' 3">'//h5//':/fields/'//sname//'/'//dataset//'</DataItem>'
     write(u, '(a)') '     </Attribute>'
   end subroutine attribute
 

@@ -1,6 +1,6 @@
 !> The calls to METIS: element partitioning (dual graph: elements are neighbours when they
-!! share an edge, i.e. two nodes in 2D) and the nested-dissection order of a sparse
-!! factorisation.
+!! share a side: an edge, two nodes, in 2D; a face of a hexahedron, four nodes, in 3D) and the
+!! nested-dissection order of a sparse factorisation.
 module ictus_parallel_partition
   use, intrinsic :: iso_c_binding, only: c_int, c_null_ptr, c_ptr, c_loc
   use ictus_parallel_metis_kinds, only: idx_t
@@ -34,9 +34,11 @@ contains
 
   !> Splits nel elements (nen(e) nodes each, conn(nen_max, nel) in 1..nn) into nparts parts.
   !! part(e) in 0..nparts-1. `ierr` /= 0 when METIS fails. METIS with default options is
-  !! deterministic, so every rank computing it gets the same partition.
-  subroutine partition_elements(nn, nel, nen_max, nen, conn, nparts, part, ierr)
-    integer, intent(in) :: nn, nel, nen_max, nparts
+  !! deterministic, so every rank computing it gets the same partition. ncommon: the nodes two
+  !! neighbouring elements share (2 in 2D: an edge; 4 in 3D: a face, not an edge, of the
+  !! hexahedra, whose edges hold at most 3 nodes).
+  subroutine partition_elements(nn, nel, nen_max, nen, conn, nparts, part, ierr, ncommon)
+    integer, intent(in) :: nn, nel, nen_max, nparts, ncommon
     integer, intent(in) :: nen(nel), conn(nen_max, nel)
     integer, intent(out) :: part(nel)
     integer, intent(out) :: ierr
@@ -57,7 +59,7 @@ contains
       eptr(e + 1) = int(k, idx_t)
     end do
     ierr = 1 - metis_partmeshdual(int(nel, idx_t), int(nn, idx_t), eptr, eind, c_null_ptr, &
-        c_null_ptr, 2_idx_t, int(nparts, idx_t), c_null_ptr, c_null_ptr, objval, epart, npart)
+        c_null_ptr, int(ncommon, idx_t), int(nparts, idx_t), c_null_ptr, c_null_ptr, objval, epart, npart)
     part = int(epart)
   end subroutine partition_elements
 

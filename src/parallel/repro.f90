@@ -51,25 +51,29 @@ contains
     total = part(1) + (part(2) + part(3))
   end function repro_sum
 
-  !> Global dot product sum_i x(:, i) . y(:, i) for i = 1..n on all ranks (2-vectors per node).
+  !> Global dot product sum_i x(:, i) . y(:, i) for i = 1..n on all ranks (vectors of
+  !! size(x, 1) components per node: 2 in 2D, 3 in 3D).
   function repro_dot(n, x, y, nglobal) result(total)
     integer, intent(in) :: n
-    real(dp), intent(in) :: x(2, n), y(2, n)
+    real(dp), intent(in) :: x(:,:), y(:,:)
     integer, intent(in) :: nglobal
     real(dp) :: total
     real(dp) :: part(levels), sigma(levels), m, r, q, t
-    integer :: i, k, c
+    integer :: i, k, c, nc
+    nc = size(x, 1)
     m = 0.0_dp
     do i = 1, n
-      m = max(m, abs(x(1, i)*y(1, i)), abs(x(2, i)*y(2, i)))
+      do c = 1, nc
+        m = max(m, abs(x(c, i)*y(c, i)))
+      end do
     end do
     call allreduce_max(m)
     total = 0.0_dp
     if (m == 0.0_dp) return
-    call level_boundaries(m, 2*nglobal, sigma)
+    call level_boundaries(m, nc*nglobal, sigma)
     part = 0.0_dp
     do i = 1, n
-      do c = 1, 2
+      do c = 1, nc
         t = x(c, i)*y(c, i)
         r = t
         do k = 1, levels

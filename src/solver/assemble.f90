@@ -1,5 +1,6 @@
-!> Assembly of the constant operators of linear elastodynamics: the stiffness (2x2 block CSR),
-!! the consistent mass (scalar CSR, where asked for) and the lumped nodal masses.
+!> Assembly of the constant operators of linear elastodynamics: the stiffness (2x2 block CSR;
+!! 2D only: a 3D model forms K u element by element), the consistent mass (scalar CSR, where
+!! asked for) and the lumped nodal masses.
 !!
 !! This runs once before the time loop. Elements are processed through the element library
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
@@ -11,6 +12,7 @@ module ictus_solver_assemble
       element_type_count
   use ictus_elements_iga, only: iga_shape_data
   use ictus_elements_solid2d, only: solid2d_volume
+  use ictus_elements_solid3d, only: solid3d_volume
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
   use ictus_parallel_repro, only: repro_sum
@@ -25,7 +27,7 @@ module ictus_solver_assemble
 
   !> The assembled constant operators.
   type :: operators_t
-    !> Stiffness K (2x2 blocks).
+    !> Stiffness K (2x2 blocks; not assembled in 3D).
     type(bsr_t) :: k
     !> True when at least one element uses the consistent mass.
     logical :: consistent = .false.
@@ -61,7 +63,7 @@ contains
   !! of the same type apart (1: the element's rule, 2: the HRZ 2x2 rule).
   subroutine element_shape(model, e, ngauss, cache, slot, shp)
     type(model_t), intent(in) :: model
-    integer, intent(in) :: e, ngauss(2), slot
+    integer, intent(in) :: e, ngauss(:), slot
     type(shape_cache_t), intent(inout) :: cache
     type(elem_shape_t), intent(inout) :: shp
     integer :: ip, ie, i1, i2, t
@@ -114,7 +116,7 @@ contains
     nl = dom%nlocal
     call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
         model%nen(dom%elem), dom%conn, dom%halo%gid, g)
-    call bsr_init(ops%k, g)
+    if (model%ndm == 2) call bsr_init(ops%k, g)
     ops%consistent = any(model%mass_kind == MASS_CONSISTENT)
     if (ops%consistent) call csr_init(ops%m, g)
     allocate(ops%m_diag(nl), ops%m_pos(nl), ops%c_diag(nl), source=0.0_dp)
@@ -133,22 +135,24 @@ contains
       if (allocated(xl)) then
         if (size(xl, 2) /= nen) deallocate(xl, me2, ml, diag)
       end if
-      if (.not. allocated(xl)) allocate(xl(2, nen), me2(nen, nen), ml(nen), diag(nen))
+      if (.not. allocated(xl)) allocate(xl(model%ndm, nen), me2(nen, nen), ml(nen), diag(nen))
       nodes = dom%conn(1:nen, k)
       xl = model%x0(:, model%conn(1:nen, e))
       mt = model%mat(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      call element_routine(TASK_STIFFNESS, model%etype(e), shp, xl, model%materials(mt), &
-           kout)
-      if (kout%ierr /= 0) cycle
-      ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
-      ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
-      associate (ke => kout%s)
-        do i = 1, 2*nen - 1
-          ke(i + 1:, i) = ke(i, i + 1:)
-        end do
-      end associate
-      call bsr_add_element(ops%k, nen, nodes, kout%s)
+      if (model%ndm == 2) then
+        call element_routine(TASK_STIFFNESS, model%etype(e), shp, xl, model%materials(mt), &
+            kout)
+        if (kout%ierr /= 0) cycle
+        ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
+        ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
+        associate (ke => kout%s)
+          do i = 1, 2*nen - 1
+            ke(i + 1:, i) = ke(i, i + 1:)
+          end do
+        end associate
+        call bsr_add_element(ops%k, nen, nodes, kout%s)
+      end if
       call element_routine(TASK_MASS, model%etype(e), shp, xl, model%materials(mt), &
            mout)
       mass_e = mout%scalar
@@ -268,7 +272,11 @@ contains
     do e = 1, model%nel
       nen = model%nen(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      call solid2d_volume(nen, shp, model%x0(:, model%conn(1:nen, e)), unit_thickness, vol)
+      if (model%ndm == 3) then
+        call solid3d_volume(nen, shp, model%x0(:, model%conn(1:nen, e)), vol)
+      else
+        call solid2d_volume(nen, shp, model%x0(:, model%conn(1:nen, e)), unit_thickness, vol)
+      end if
       total = total + model%materials(model%mat(e))%density*abs(vol)
       if (.not. total <= huge(1.0_dp)) then
         ebad = e

@@ -58,7 +58,7 @@ contains
     ierr = 0
     if (dom%nparts > 1) then
       if (dom%rank == 0) call partition_elements(nn, model%nel, model%nen_max, model%nen, &
-          model%conn, dom%nparts, dom%part, ierr)
+          model%conn, dom%nparts, dom%part, ierr, merge(4, 2, model%ndm == 3))
       call bcast(ierr)
       call bcast(dom%part)
       if (ierr /= 0) return

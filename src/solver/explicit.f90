@@ -73,7 +73,7 @@ module ictus_solver_explicit
     !! follows the state: v_{n+1/2} = v_{n-1/2} + (dt_prev + dt)/2 a_n).
     real(dp) :: dt = 0.0_dp
     real(dp) :: dt_prev = 0.0_dp
-    !> u_n (2, nlocal); v_{n-1/2} before a step and v_{n+1/2} after it; last acceleration a.
+    !> u_n (ndm, nlocal); v_{n-1/2} before a step and v_{n+1/2} after it; last acceleration a.
     real(dp), allocatable :: u(:,:), v(:,:), a(:,:)
     !> Work: force vector, previous half-step velocity, mean velocity, M v.
     real(dp), allocatable :: f(:,:), v_old(:,:), v_mid(:,:), mv(:,:)
@@ -82,7 +82,7 @@ module ictus_solver_explicit
     real(dp), allocatable :: alpha(:)
     real(dp), allocatable :: m_pos(:)
     logical :: damped = .false.
-    !> Terms of the damping power at t_n per node, (2, nn, stage): left by the fused damped
+    !> Terms of the damping power at t_n per node, (ndm, nn, stage): left by the fused damped
     !! step (stage 1) and by each stage of a damped sweep, summed by `add_damping_work`.
     real(dp), allocatable :: pw(:,:,:)
     !> Energies at time t_n of the last step that computed them.
@@ -98,7 +98,7 @@ module ictus_solver_explicit
     real(dp) :: pw_prev = 0.0_dp
     !> Non-zero when the last mass solve failed.
     integer :: ierr = 0
-    !> u_{n+1} computed by the fused lumped-mass predictor (2, nlocal), and whether the
+    !> u_{n+1} computed by the fused lumped-mass predictor (ndm, nlocal), and whether the
     !! current step took that path (then step_finish swaps it in).
     real(dp), allocatable :: u_next(:,:)
     logical :: fused = .false.
@@ -106,12 +106,12 @@ module ictus_solver_explicit
     !! elements, (nhist, ngp, elements) (empty when no law has history).
     real(dp), allocatable :: hist(:,:,:)
     !> Loads and prescribed motion (`loaded`: any on any rank), the external force f_ext(t_n)
-    !! and the applied force f_ext - f_int (2, nlocal; allocated when loaded).
+    !! and the applied force f_ext - f_int (ndm, nlocal; allocated when loaded).
     logical :: loaded = .false.
     type(loads_t) :: ld
     real(dp), allocatable :: fext(:,:), fa(:,:)
-    !> Constrained dofs of the owned nodes (2, nn), and the reaction forces on them at the
-    !! last record (2, nlocal; 0 on the other dofs): R = M a - (f_ext - f_int) - f_damp.
+    !> Constrained dofs of the owned nodes (ndm, nn), and the reaction forces on them at the
+    !! last record (ndm, nlocal; 0 on the other dofs): R = M a - (f_ext - f_int) - f_damp.
     logical, allocatable :: fixed(:,:)
     real(dp), allocatable :: rf(:,:)
   end type state_t
@@ -119,11 +119,11 @@ module ictus_solver_explicit
 contains
 
   !> Sets u_0 (prescribed displacements), v_0 and the start-up half-step velocity
-  !! v_{-1/2} = v_0 - dt/2 a_0 with a_0 = M^-1(-K u_0). Arrays are local (2, nlocal) /
+  !! v_{-1/2} = v_0 - dt/2 a_0 with a_0 = M^-1(-K u_0). Arrays are local (ndm, nlocal) /
   !! (nlocal). `alpha` are the nodal damping coefficients, `m_pos` the positive diagonal
   !! masses that weigh the damping work. `ld`: the rank's loads and prescribed motion (with
   !! them a_0 = M^-1(f_ext(0) - f_int(u_0)) and the prescribed dofs start from their
-  !! v_{-1/2}); `fixed`: the constrained dofs (2, >= nn) whose reactions are recorded.
+  !! v_{-1/2}); `fixed`: the constrained dofs (ndm, >= nn) whose reactions are recorded.
   subroutine state_init(s, fop, mop, dom, u0, v0, alpha, m_pos, dt, ld, fixed)
     type(state_t), intent(out) :: s
     type(force_op_t), intent(inout) :: fop
@@ -299,7 +299,7 @@ contains
       d = s%ld%mot_dof(k)
       s%mv(d, i) = s%mv(d, i) + motion_reaction(s, mop, d, i)*s%v_mid(d, i)
     end do
-    pw = repro_sum(2*s%nn, s%mv, 2*s%nglobal)
+    pw = repro_sum(size(s%mv, 1)*s%nn, s%mv, size(s%mv, 1)*s%nglobal)
   end function load_power
 
   !> The reaction forces at t_n on the constrained dofs, s%rf = (M a)_c - (f_ext - f_int)_c
@@ -345,7 +345,7 @@ contains
     type(state_t), intent(inout) :: s
     integer, intent(in) :: n, stage
     real(dp) :: pw
-    pw = repro_sum(2*s%nn, s%pw(:, :, stage), 2*s%nglobal)
+    pw = repro_sum(size(s%pw, 1)*s%nn, s%pw(:, :, stage), size(s%pw, 1)*s%nglobal)
     if (n > 0) s%w_acc = s%w_acc + 0.5_dp*s%dt_prev*(s%pw_prev + pw)
     s%pw_prev = pw
   end subroutine add_damping_work

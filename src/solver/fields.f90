@@ -18,8 +18,9 @@ module ictus_solver_fields
   public :: element_fields_t, element_fields
 
   !> The fields of this rank: per own element (global ids `elem`) stress and strain
-  !! (4, nown: xx, yy, xy, zz), von Mises stress and equivalent plastic strain (nown); per
-  !! owned node the averaged stress (4, nowned) and von Mises stress (nowned).
+  !! (4, nown: xx, yy, xy, zz in 2D; 6, nown: xx, yy, zz, xy, yz, zx in 3D), von Mises stress
+  !! and equivalent plastic strain (nown); per owned node the averaged stress (4 or 6, nowned)
+  !! and von Mises stress (nowned).
   type :: element_fields_t
     integer, allocatable :: elem(:)
     real(dp), allocatable :: stress(:,:), strain(:,:), mises(:), peeq(:)
@@ -47,13 +48,21 @@ contains
     type(elem_shape_t) :: shp
     type(element_out_t) :: out
     real(dp), allocatable :: h0(:,:), acc(:,:), cnt(:)
-    real(dp) :: s4(4), e4(4), mises, peeq
-    integer :: k, e, nen, j, g, ip, a, i
+    real(dp) :: s_mean(6), e_mean(6), mises, peeq
+    integer :: k, e, nen, j, g, ip, a, i, nc
+    integer, allocatable :: comp(:)
     if (allocated(ef%elem)) deallocate(ef%elem, ef%stress, ef%strain, ef%mises, ef%peeq, &
         ef%nodal_stress, ef%nodal_mises)
+    ! the components written: xx, yy, xy, zz in 2D; xx, yy, zz, xy, yz, zx in 3D
+    if (model%ndm == 3) then
+      comp = [1, 2, 3, 4, 5, 6]
+    else
+      comp = [1, 2, 4, 3]
+    end if
+    nc = size(comp)
     j = count([(domain_owns(dom, k), k = 1, dom%nelem)])
-    allocate(ef%elem(j), ef%stress(4, j), ef%strain(4, j), ef%mises(j), ef%peeq(j))
-    allocate(acc(5, dom%nlocal), cnt(dom%nlocal), source=0.0_dp)
+    allocate(ef%elem(j), ef%stress(nc, j), ef%strain(nc, j), ef%mises(j), ef%peeq(j))
+    allocate(acc(nc + 1, dom%nlocal), cnt(dom%nlocal), source=0.0_dp)
     j = 0
     do k = 1, dom%nelem
       e = dom%elem(k)
@@ -71,39 +80,39 @@ contains
             mean=mean_dilatation(model, e))
         ip = law%hist_peeq
       end associate
-      s4 = 0.0_dp
-      e4 = 0.0_dp
+      s_mean = 0.0_dp
+      e_mean = 0.0_dp
       mises = 0.0_dp
       peeq = 0.0_dp
       do g = 1, shp%ngp
-        s4 = s4 + out%sig([1, 2, 4, 3], g)
-        e4 = e4 + out%eps([1, 2, 4, 3], g)
+        s_mean(1:nc) = s_mean(1:nc) + out%sig(comp, g)
+        e_mean(1:nc) = e_mean(1:nc) + out%eps(comp, g)
         mises = mises + von_mises(out%sig(:, g))
         if (ip > 0) peeq = peeq + h0(ip, g)
       end do
-      s4 = s4/shp%ngp
-      e4 = e4/shp%ngp
+      s_mean = s_mean/shp%ngp
+      e_mean = e_mean/shp%ngp
       mises = mises/shp%ngp
       peeq = peeq/shp%ngp
       do a = 1, nen
         i = dom%conn(a, k)
-        acc(1:4, i) = acc(1:4, i) + s4
-        acc(5, i) = acc(5, i) + mises
+        acc(1:nc, i) = acc(1:nc, i) + s_mean(1:nc)
+        acc(nc + 1, i) = acc(nc + 1, i) + mises
         cnt(i) = cnt(i) + 1.0_dp
       end do
       if (.not. domain_owns(dom, k)) cycle
       j = j + 1
       ef%elem(j) = e
-      ef%stress(:, j) = s4
-      ef%strain(:, j) = e4
+      ef%stress(:, j) = s_mean(1:nc)
+      ef%strain(:, j) = e_mean(1:nc)
       ef%mises(j) = mises
       ef%peeq(j) = peeq
     end do
-    allocate(ef%nodal_stress(4, dom%nowned), ef%nodal_mises(dom%nowned), source=0.0_dp)
+    allocate(ef%nodal_stress(nc, dom%nowned), ef%nodal_mises(dom%nowned), source=0.0_dp)
     do i = 1, dom%nowned
       if (cnt(i) == 0.0_dp) cycle
-      ef%nodal_stress(:, i) = acc(1:4, i)/cnt(i)
-      ef%nodal_mises(i) = acc(5, i)/cnt(i)
+      ef%nodal_stress(:, i) = acc(1:nc, i)/cnt(i)
+      ef%nodal_mises(i) = acc(nc + 1, i)/cnt(i)
     end do
   end subroutine element_fields
 

@@ -450,8 +450,26 @@ contains
     end do
   end subroutine damped_update
 
-  !> y = (A ⊗ I2) x for the scalar matrix acting on both components, on its n rows.
-  subroutine csr_matvec(n, row_ptr, col, val, x, y)
+  !> y = (A ⊗ I) x for the scalar matrix acting on every component, on its n rows; x and y
+  !! hold `nc` components per node (default 2; 3 in 3D), node after node.
+  subroutine csr_matvec(n, row_ptr, col, val, x, y, nc)
+    integer, intent(in) :: n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(*), x(*)
+    real(dp), intent(inout) :: y(*)
+    integer, intent(in), optional :: nc
+    integer :: m
+    m = 2
+    if (present(nc)) m = nc
+    if (m == 2) then
+      call csr_rows2(n, row_ptr, col, val, x, y)
+    else
+      call csr_rows(m, n, row_ptr, col, val, x, y)
+    end if
+  end subroutine csr_matvec
+
+  !> The rows of csr_matvec for two components.
+  subroutine csr_rows2(n, row_ptr, col, val, x, y)
     integer, intent(in) :: n
     integer, intent(in) :: row_ptr(n + 1), col(*)
     real(dp), intent(in) :: val(*), x(2, *)
@@ -469,7 +487,25 @@ contains
       y(1, i) = s1
       y(2, i) = s2
     end do
-  end subroutine csr_matvec
+  end subroutine csr_rows2
+
+  !> The rows of csr_matvec for nc components (each summed in the same order as csr_rows2).
+  subroutine csr_rows(nc, n, row_ptr, col, val, x, y)
+    integer, intent(in) :: nc, n
+    integer, intent(in) :: row_ptr(n + 1), col(*)
+    real(dp), intent(in) :: val(*), x(nc, *)
+    real(dp), intent(inout) :: y(nc, *)
+    integer :: i, k, j
+    real(dp) :: s(nc)
+    do i = 1, n
+      s = 0.0_dp
+      do k = row_ptr(i), row_ptr(i + 1) - 1
+        j = col(k)
+        s = s + val(k)*x(:, j)
+      end do
+      y(:, i) = s
+    end do
+  end subroutine csr_rows
 
   !> Diagonal of a scalar CSR matrix.
   subroutine csr_diagonal(a, d)

@@ -9,6 +9,7 @@ module ictus_solver_timestep
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, MASS_SOLVER_CORRECTOR
   use ictus_solver_domain, only: domain_t
+  use ictus_solver_force_element, only: element_force_t, element_loop_stiffness
   implicit none
   private
   public :: omega_max_power
@@ -36,7 +37,11 @@ contains
   !! only Mk^-1 is at hand, so the M inner product is not the right one: there Lanczos runs
   !! on the forces, on K Mk^-1 (same eigenvalues as Mk^-1 K) in the Mk^-1 inner product, in
   !! which K Mk^-1 is symmetric (`lanczos_inverse`).
-  subroutine omega_max_power(k, mop, dom, omega, iters, rtol, max_iter)
+  !!
+  !! K is the assembled stiffness `k` (2D), or with `kel` (a 3D model, whose stiffness is not
+  !! assembled) the element loop's product of the reference tangents
+  !! (`element_loop_stiffness`).
+  subroutine omega_max_power(k, mop, dom, omega, iters, rtol, max_iter, kel)
     type(bsr_t), intent(in) :: k
     type(mass_op_t), intent(inout) :: mop
     type(domain_t), intent(inout) :: dom
@@ -44,17 +49,19 @@ contains
     integer, intent(out) :: iters
     real(dp), intent(in) :: rtol
     integer, intent(in) :: max_iter
+    type(element_force_t), intent(inout), optional :: kel
     real(dp), allocatable :: q(:,:), q_old(:,:), w(:,:), kq(:,:), mw(:,:), alpha(:), beta(:)
     real(dp) :: nrm, lam, lam_old
-    integer :: n, j, i, ierr
+    integer :: n, j, i, ierr, nd
     type(ticker_t) :: tk
     if (mop%consistent .and. mop%solver == MASS_SOLVER_CORRECTOR) then
       call lanczos_inverse(k, mop, dom, omega, iters, rtol, max_iter)
       return
     end if
     n = mop%nn
+    nd = size(mop%free, 1)
     ! q and w carry ghost values: the consistent-mass product reads them
-    allocate(q(2, mop%nlocal), q_old(2, n), w(2, mop%nlocal), kq(2, n), mw(2, n))
+    allocate(q(nd, mop%nlocal), q_old(nd, n), w(nd, mop%nlocal), kq(nd, n), mw(nd, n))
     q = 0.0_dp
     allocate(alpha(max_iter), beta(max_iter))
     call start_vector(mop, dom, q)
@@ -77,7 +84,11 @@ contains
       iters = j
       ! w = M^-1 K q_j, alpha_j = q_j . K q_j (the M inner product of w and q_j)
       call halo_exchange(dom%halo, q)
-      call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, q, kq)
+      if (present(kel)) then
+        call element_loop_stiffness(kel, n, q, kq)
+      else
+        call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, q, kq)
+      end if
       kq = kq*mop%free(:, 1:n)
       alpha(j) = repro_dot(n, q, kq, mop%nglobal)
       ! start the mass solve from alpha q, its value for an eigenvector (a lumped solve
@@ -123,6 +134,7 @@ contains
     n = mop%nn
     ! z carries ghost values: K reads them
     allocate(q(2, n), q_old(2, n), z(2, mop%nlocal), w(2, n), kz(2, n))
+    ! (the corrector is a 2D solver: nd = 2)
     allocate(alpha(max_iter), beta(max_iter))
     z = 0.0_dp
     call start_vector(mop, dom, q)
@@ -170,17 +182,20 @@ contains
     end if
   end function omega_of
 
-  !> The start vector: a fixed pseudo-random field of the global dof numbers on the free
-  !! owned dofs (0 elsewhere among the first nn columns).
+  !> The start vector: a fixed pseudo-random field of the global dof numbers (nd (g - 1) + c
+  !! for component c of node g, nd = 2 or 3) on the free owned dofs (0 elsewhere among the
+  !! first nn columns).
   subroutine start_vector(mop, dom, q)
     type(mass_op_t), intent(in) :: mop
     type(domain_t), intent(in) :: dom
     real(dp), intent(inout) :: q(:,:)
-    integer :: i, g
+    integer :: i, g, c, nd
+    nd = size(q, 1)
     do i = 1, mop%nn
       g = dom%halo%gid(i)
-      q(1, i) = hash_uniform(2*g - 1)*mop%free(1, i)
-      q(2, i) = hash_uniform(2*g)*mop%free(2, i)
+      do c = 1, nd
+        q(c, i) = hash_uniform(nd*(g - 1) + c)*mop%free(c, i)
+      end do
     end do
   end subroutine start_vector
 

@@ -20,7 +20,8 @@ module ictus_solver_force_element
   implicit none
   private
   public :: element_force_t, element_loop_init, element_loop_apply, element_loop_energy, &
-      element_loop_bytes, element_loop_dissipation, element_loop_stable, element_loop_geometry
+      element_loop_bytes, element_loop_dissipation, element_loop_stable, element_loop_geometry, &
+      element_loop_stiffness
 
   type :: element_force_t
     !> Elements of this rank (domain_t%elem order), their types, nodes, quadrature points and
@@ -204,6 +205,45 @@ contains
       end do
     end do
   end subroutine element_loop_stable
+
+  !> kq = K q on the nn owned rows of a 3D model (q: owned and ghost values), with K the
+  !! stiffness of the laws' reference tangents (tangent_3d), the K of the element routine's
+  !! TASK_STIFFNESS, without assembling it: kq_a = sum_g B_a^T D B q dV from the stored
+  !! geometry. The stable step's frequency estimate of a 3D model (ictus_solver_timestep)
+  !! takes it, one product per iteration. Rows are summed over the elements in global order,
+  !! so the bits do not depend on the partition.
+  subroutine element_loop_stiffness(el, nn, q, kq)
+    type(element_force_t), intent(inout) :: el
+    integer, intent(in) :: nn
+    real(dp), intent(in) :: q(:,:)
+    real(dp), intent(inout) :: kq(:,:)
+    real(dp) :: d(6, 6, size(el%materials)), grad(3, 3), eps(6), sig(6), s(3, 3)
+    integer :: k, a, g, i, m, nen
+    do m = 1, size(el%materials)
+      call el%materials(m)%law%tangent_3d(d(:, :, m))
+    end do
+    kq(:, 1:nn) = 0.0_dp
+    do k = 1, el%nelem
+      nen = el%nen(k)
+      do a = 1, nen
+        el%ul(:, a) = q(:, el%conn(a, k))
+      end do
+      el%fe(:, 1:nen) = 0.0_dp
+      do g = 1, el%ngp(k)
+        grad = matmul(el%ul(:, 1:nen), transpose(el%dnx(:, 1:nen, g, k)))
+        eps = [grad(1, 1), grad(2, 2), grad(3, 3), grad(1, 2) + grad(2, 1), &
+            grad(2, 3) + grad(3, 2), grad(3, 1) + grad(1, 3)]
+        sig = matmul(d(:, :, el%mat(k)), eps)*el%dvol(g, k)
+        s = reshape([sig(1), sig(4), sig(6), sig(4), sig(2), sig(5), sig(6), sig(5), sig(3)], &
+            [3, 3])
+        el%fe(:, 1:nen) = el%fe(:, 1:nen) + matmul(s, el%dnx(:, 1:nen, g, k))
+      end do
+      do a = 1, nen
+        i = el%conn(a, k)
+        if (i <= nn) kq(:, i) = kq(:, i) + el%fe(:, a)
+      end do
+    end do
+  end subroutine element_loop_stiffness
 
   !> Stored energy at the last apply: the sum over this rank's own elements, reproducible.
   function element_loop_energy(el) result(e)

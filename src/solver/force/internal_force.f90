@@ -41,7 +41,8 @@ contains
 
   !> The implementation a model gets: the deck's choice, or for FORCE_AUTO the assembled K
   !! where every material law is linear, the strain small and no element shares its mean
-  !! dilatation.
+  !! dilatation. A 3D model takes the element loop (its stiffness is not assembled: the
+  !! assembled K has 2 x 2 blocks).
   integer function force_choice(model)
     type(model_t), intent(in) :: model
     integer :: m
@@ -55,6 +56,7 @@ contains
     do m = 1, model%nmat
       if (.not. model%materials(m)%law%linear) force_choice = FORCE_ELEMENT
     end do
+    if (model%ndm == 3) force_choice = FORCE_ELEMENT
   end function force_choice
 
   !> Sets up the operator of `kind` (FORCE_ASSEMBLED or FORCE_ELEMENT) for this rank's part;

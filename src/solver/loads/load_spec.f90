@@ -16,19 +16,23 @@ module ictus_solver_load_spec
 
   !> A constant nodal force vector times an amplitude: the forces `value` on dof `dof` of the
   !! nodes `nodes` (*CLOAD), or the body force rho g of the elements `elems` (*DLOAD, GRAV;
-  !! g(2) is g times the normalised direction).
+  !! g(3) is g times the normalised direction; g(3) = 0 in 2D).
   type :: nodal_load_t
     integer :: amp = 0
     integer :: dof = 0
     real(dp) :: value = 0.0_dp
     integer, allocatable :: nodes(:)
     integer, allocatable :: elems(:)
-    real(dp) :: g(2) = 0.0_dp
+    real(dp) :: g(3) = 0.0_dp
   end type nodal_load_t
 
   !> A pressure p times an amplitude on a surface (*DLOAD, P); positive pushes into the body.
+  !! 2D: the surface's segments `surf`; 3D: the faces of hexahedra, global nodes
+  !! face_conn(:, 1:nface), face_nfn(k) (4, 8 or 9) each.
   type :: pressure_load_t
     type(contact_surface_t) :: surf
+    integer :: nface = 0
+    integer, allocatable :: face_conn(:,:), face_nfn(:)
     real(dp) :: p = 0.0_dp
     integer :: amp = 0
   end type pressure_load_t

@@ -19,6 +19,7 @@ module ictus_solver_loads
   use ictus_solver_amplitude, only: amplitude_t, amp_factor
   use ictus_solver_load_spec, only: load_spec_active, MOTION_DISPLACEMENT
   use ictus_solver_pressure, only: pressure_rt_t, pressure_setup, pressure_add
+  use ictus_solver_face_pressure, only: face_pressure_t, face_pressure_setup, face_pressure_add
   use ictus_solver_model, only: model_t
   use ictus_solver_domain, only: domain_t
   use ictus_solver_assemble, only: element_shape, shape_cache_t
@@ -33,14 +34,16 @@ module ictus_solver_loads
     logical :: active = .false.
     integer :: nn = 0
     type(amplitude_t), allocatable :: amps(:)
-    !> Constant nodal vectors F_g (2, nn, ngroup) and the amplitude of each (ngroup).
+    !> Constant nodal vectors F_g (ndm, nn, ngroup) and the amplitude of each (ngroup).
     integer :: ngroup = 0
     integer, allocatable :: group_amp(:)
     real(dp), allocatable :: fg(:,:,:)
     !> Pressure loads, and whether they follow the deformed surface (NLGEOM).
     type(pressure_rt_t), allocatable :: press(:)
+    !> 3D: the pressure loads on faces of hexahedra (press is then empty).
+    type(face_pressure_t), allocatable :: fpress(:)
     logical :: follow = .false.
-    !> Local reference coordinates (2, nlocal).
+    !> Local reference coordinates (ndm, nlocal).
     real(dp), allocatable :: x0(:,:)
     !> Prescribed dofs of owned nodes: local node, dof, MOTION_* kind, amplitude, value.
     integer :: nmot = 0
@@ -69,7 +72,7 @@ contains
       end do
       ld%ngroup = size(gamp)
       ld%group_amp = gamp
-      allocate(ld%fg(2, dom%nowned, ld%ngroup), source=0.0_dp)
+      allocate(ld%fg(model%ndm, dom%nowned, ld%ngroup), source=0.0_dp)
       do k = 1, ls%nnodal
         ig = findloc(gamp, ls%nodal(k)%amp, dim=1)
         associate (nl => ls%nodal(k))
@@ -85,11 +88,21 @@ contains
         end associate
       end do
       ld%follow = model%nlgeom
-      allocate(ld%press(ls%npress))
-      do k = 1, ls%npress
-        call pressure_setup(ls%press(k)%surf, ls%press(k)%p, ls%press(k)%amp, dom%g2l, &
-            dom%nowned, ld%press(k))
-      end do
+      if (model%ndm == 3) then
+        allocate(ld%press(0), ld%fpress(ls%npress))
+        do k = 1, ls%npress
+          associate (pl => ls%press(k))
+            call face_pressure_setup(pl%nface, pl%face_nfn, pl%face_conn, pl%p, pl%amp, &
+                dom%g2l, dom%nowned, ld%fpress(k))
+          end associate
+        end do
+      else
+        allocate(ld%press(ls%npress), ld%fpress(0))
+        do k = 1, ls%npress
+          call pressure_setup(ls%press(k)%surf, ls%press(k)%p, ls%press(k)%amp, dom%g2l, &
+              dom%nowned, ld%press(k))
+        end do
+      end if
       ld%x0 = model%x0(:, dom%halo%gid)
       ld%nmot = 0
       do k = 1, ls%nmotion
@@ -113,13 +126,13 @@ contains
   end subroutine loads_init
 
   !> Adds the body force rho g int N_A dV of the elements `elems` (global indices) to the owned
-  !! rows of f (2, nowned): the row sums of each element's consistent mass, elements in global
+  !! rows of f (ndm, nowned): the row sums of each element's consistent mass, elements in global
   !! order (the rank's elements that hold an owned node).
   subroutine add_gravity(model, dom, elems, g, f)
     type(model_t), intent(in) :: model
     type(domain_t), intent(in) :: dom
     integer, intent(in) :: elems(:)
-    real(dp), intent(in) :: g(2)
+    real(dp), intent(in) :: g(:)
     real(dp), intent(inout) :: f(:,:)
     logical, allocatable :: in_set(:)
     type(shape_cache_t) :: cache
@@ -140,12 +153,12 @@ contains
         i = dom%conn(a, k)
         if (i > dom%nowned) cycle
         row = sum(mout%s(a, 1:nen))
-        f(:, i) = f(:, i) + row*g
+        f(:, i) = f(:, i) + row*g(1:size(f, 1))
       end do
     end do
   end subroutine add_gravity
 
-  !> The external force at time t on the owned rows of f (2, nlocal): f = f_ext(t); x0 the
+  !> The external force at time t on the owned rows of f (ndm, nlocal): f = f_ext(t); x0 the
   !! local reference coordinates (ld%x0), u the local displacements (for NLGEOM pressure).
   subroutine loads_force(ld, t, x0, u, f)
     type(loads_t), intent(in) :: ld
@@ -163,6 +176,10 @@ contains
     do k = 1, size(ld%press)
       a = amp_factor(ld%amps, ld%press(k)%amp, t)
       call pressure_add(ld%press(k), a, x0, u, ld%follow, nn, f)
+    end do
+    do k = 1, size(ld%fpress)
+      a = amp_factor(ld%amps, ld%fpress(k)%amp, t)
+      call face_pressure_add(ld%fpress(k), a, x0, u, ld%follow, nn, f)
     end do
   end subroutine loads_force
 

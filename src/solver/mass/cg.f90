@@ -33,7 +33,7 @@ module ictus_solver_mass_cg
     !> Largest absolute row sum of M and largest 1/m (global): bounds of the terms.
     real(dp) :: m_inf = 0.0_dp
     real(dp) :: inv_max = 0.0_dp
-    !> Residual r and M p in q (2, nn), direction p (2, nlocal: ghosts by halo).
+    !> Residual r and M p in q (ndm, nn), direction p (ndm, nlocal: ghosts by halo).
     real(dp), allocatable :: r(:,:), p(:,:), q(:,:)
   contains
     procedure :: solve => cg_solve
@@ -43,7 +43,7 @@ module ictus_solver_mass_cg
 contains
 
   !> The conjugate gradient of the consistent mass m (this rank's rows) with the dofs
-  !! `fixed(2, nlocal)`, to the relative residual `rtol` (default 1e-12).
+  !! `fixed(ndm, nlocal)`, to the relative residual `rtol` (default 1e-12).
   subroutine cg_init(s, c, m, fixed, rtol)
     class(mass_solver_t), allocatable, intent(out) :: s
     type(mass_core_t), intent(inout) :: c
@@ -55,9 +55,9 @@ contains
     allocate(t)
     if (present(rtol)) t%rtol = rtol
     call consistent_setup(t, c, m, fixed)
-    call alloc_stream(t%r, 2, c%nn, 0.0_dp)
-    call alloc_stream(t%q, 2, c%nn, 0.0_dp)
-    call alloc_stream(t%p, 2, c%nlocal, 0.0_dp)
+    call alloc_stream(t%r, size(fixed, 1), c%nn, 0.0_dp)
+    call alloc_stream(t%q, size(fixed, 1), c%nn, 0.0_dp)
+    call alloc_stream(t%p, size(fixed, 1), c%nlocal, 0.0_dp)
     do i = 1, c%nn
       t%m_inf = max(t%m_inf, sum(abs(t%m%val(t%m%g%row_ptr(i):t%m%g%row_ptr(i + 1) - 1))))
     end do
@@ -75,15 +75,16 @@ contains
     real(dp), intent(inout) :: a(:,:)
     integer, intent(out) :: ierr
     real(dp) :: rz, alpha, beta, fnorm2, rnorm2, pq, rbound, mx(2), tot(2)
-    real(dp) :: part(2, levels, 2)
-    integer :: it, nn, nterms
+    real(dp) :: part(size(a, 1), levels, 2)
+    integer :: it, nn, nterms, nc
     ierr = 0
     nn = c%nn
-    nterms = 2*c%nglobal
+    nc = size(a, 1)
+    nterms = nc*c%nglobal
     ! residual of the start value
     self%p(:, 1:nn) = a(:, 1:nn)*c%free(:, 1:nn)
     call halo_exchange(dom%halo, self%p)
-    call csr_matvec(nn, self%m%g%row_ptr, self%m%g%col, self%m%val, self%p, self%q)
+    call csr_matvec(nn, self%m%g%row_ptr, self%m%g%col, self%m%val, self%p, self%q, nc)
     a(:, 1:nn) = self%p(:, 1:nn)
     self%r = (f(:, 1:nn) - self%q)*c%free(:, 1:nn)
     self%q = f(:, 1:nn)*c%free(:, 1:nn)
@@ -95,19 +96,19 @@ contains
     rnorm2 = repro_dot(nn, self%r, self%r, c%nglobal)
     if (rnorm2 <= self%rtol**2*fnorm2) return
     ! first direction p = r/m (beta = 0) and r.p
-    call cg_direction(nn, self%r, c%inv_diag, 0.0_dp, self%p, mx(1))
+    call cg_direction(nc, nn, self%r, c%inv_diag, 0.0_dp, self%p, mx(1))
     rz = repro_dot(nn, self%r, self%p, c%nglobal)
     mx(2) = maxval(abs(self%r))
     call allreduce_max(mx)
     do it = 1, self%max_iter
       call halo_exchange(dom%halo, self%p)
-      call cg_product(nn, self%m%g%row_ptr, self%m%g%col, self%m%val, self%p, self%q, &
+      call cg_product(nc, nn, self%m%g%row_ptr, self%m%g%col, self%m%val, self%p, self%q, &
           mx(1)**2*self%m_inf, nterms, part(:, :, 1))
       tot(1:1) = repro_totals(part(:, :, 1:1))
       pq = tot(1)
       alpha = rz/pq
       rbound = mx(2) + abs(alpha)*self%m_inf*mx(1)
-      call cg_update(nn, alpha, self%p, self%q, c%inv_diag, a, self%r, rbound**2, &
+      call cg_update(nc, nn, alpha, self%p, self%q, c%inv_diag, a, self%r, rbound**2, &
           rbound**2*self%inv_max, nterms, part, mx(2))
       tot = repro_totals(part)
       rnorm2 = tot(1)
@@ -115,7 +116,7 @@ contains
       if (rnorm2 <= self%rtol**2*fnorm2) exit
       beta = tot(2)/rz
       rz = tot(2)
-      call cg_direction(nn, self%r, c%inv_diag, beta, self%p, mx(1))
+      call cg_direction(nc, nn, self%r, c%inv_diag, beta, self%p, mx(1))
       call allreduce_max(mx)
     end do
     c%total_iter = c%total_iter + c%last_iter
@@ -134,21 +135,21 @@ contains
   !> q = M p on the n owned rows (p with current ghosts) and this rank's level sums of p.q
   !! (lanes = the two components) for terms bounded by `bound`. The rows go in chunks whose
   !! q is still in the L1 cache when its terms are summed.
-  subroutine cg_product(n, row_ptr, col, val, p, q, bound, nterms, part)
-    integer, intent(in) :: n, nterms
+  subroutine cg_product(nc, n, row_ptr, col, val, p, q, bound, nterms, part)
+    integer, intent(in) :: nc, n, nterms
     integer, intent(in) :: row_ptr(n + 1), col(*)
-    real(dp), intent(in) :: val(*), p(2, *), bound
-    real(dp), intent(inout) :: q(2, *)
-    real(dp), intent(out) :: part(2, levels)
+    real(dp), intent(in) :: val(*), p(nc, *), bound
+    real(dp), intent(inout) :: q(nc, *)
+    real(dp), intent(out) :: part(nc, levels)
     integer, parameter :: chunk = 1024
     real(dp) :: sigma(levels), t, w
     integer :: i0, i, c, l
     call repro_sigma(bound, nterms, sigma)
     part = 0.0_dp
     do i0 = 1, n, chunk
-      call csr_matvec(min(chunk, n - i0 + 1), row_ptr(i0), col, val, p, q(1, i0))
+      call csr_matvec(min(chunk, n - i0 + 1), row_ptr(i0), col, val, p, q(1, i0), nc)
       do i = i0, min(i0 + chunk - 1, n)
-        do c = 1, 2
+        do c = 1, nc
           t = p(c, i)*q(c, i)
           do l = 1, levels
             w = (t + sigma(l)) - sigma(l)
@@ -162,11 +163,11 @@ contains
 
   !> a += alpha p; r -= alpha q on the free dofs (inv_diag > 0); level sums of r.r and
   !! r.(r/m) (bounded by brr and brz); rmax = max |r| on this rank.
-  subroutine cg_update(n, alpha, p, q, inv_diag, a, r, brr, brz, nterms, part, rmax)
-    integer, intent(in) :: n, nterms
-    real(dp), intent(in) :: alpha, p(2, *), q(2, *), inv_diag(2, *), brr, brz
-    real(dp), intent(inout) :: a(2, *), r(2, *)
-    real(dp), intent(out) :: part(2, levels, 2), rmax
+  subroutine cg_update(nc, n, alpha, p, q, inv_diag, a, r, brr, brz, nterms, part, rmax)
+    integer, intent(in) :: nc, n, nterms
+    real(dp), intent(in) :: alpha, p(nc, *), q(nc, *), inv_diag(nc, *), brr, brz
+    real(dp), intent(inout) :: a(nc, *), r(nc, *)
+    real(dp), intent(out) :: part(nc, levels, 2), rmax
     real(dp) :: s_rr(levels), s_rz(levels), rc, t, w
     integer :: i, c, l
     call repro_sigma(brr, nterms, s_rr)
@@ -174,7 +175,7 @@ contains
     part = 0.0_dp
     rmax = 0.0_dp
     do i = 1, n
-      do c = 1, 2
+      do c = 1, nc
         a(c, i) = a(c, i) + alpha*p(c, i)
         rc = r(c, i)
         if (inv_diag(c, i) > 0.0_dp) rc = rc - alpha*q(c, i)
@@ -197,15 +198,15 @@ contains
   end subroutine cg_update
 
   !> p = r/m + beta p on the owned dofs; pmax = max |p| on this rank.
-  subroutine cg_direction(n, r, inv_diag, beta, p, pmax)
-    integer, intent(in) :: n
-    real(dp), intent(in) :: r(2, *), inv_diag(2, *), beta
-    real(dp), intent(inout) :: p(2, *)
+  subroutine cg_direction(nc, n, r, inv_diag, beta, p, pmax)
+    integer, intent(in) :: nc, n
+    real(dp), intent(in) :: r(nc, *), inv_diag(nc, *), beta
+    real(dp), intent(inout) :: p(nc, *)
     real(dp), intent(out) :: pmax
     integer :: i, c
     pmax = 0.0_dp
     do i = 1, n
-      do c = 1, 2
+      do c = 1, nc
         p(c, i) = r(c, i)*inv_diag(c, i) + beta*p(c, i)
         pmax = max(pmax, abs(p(c, i)))
       end do

@@ -18,7 +18,7 @@ module ictus_solver_mass_lumped
 
 contains
 
-  !> The lumped solver of the masses c%m_diag with the dofs `fixed(2, nlocal)`.
+  !> The lumped solver of the masses c%m_diag with the dofs `fixed(ndm, nlocal)`.
   subroutine lumped_init(s, c, fixed)
     class(mass_solver_t), allocatable, intent(out) :: s
     type(mass_core_t), intent(inout) :: c

@@ -51,7 +51,7 @@ module ictus_solver_mass_operator
 contains
 
   !> Sets up the operator for the rows of `dom`. `m` is used only when `consistent`;
-  !! `fixed(2, nlocal)` marks Dirichlet dofs, whose accelerations are zero; `rtol` is the
+  !! `fixed(ndm, nlocal)` marks Dirichlet dofs, whose accelerations are zero; `rtol` is the
   !! relative residual at which the conjugate gradient stops (default 1e-12); `solver` is a
   !! MASS_SOLVER_* (default CG); `passes` the corrector's k (default 2). `ierr` (when
   !! present) is 0, or 1 when the Cholesky factor cannot be made (see
@@ -82,8 +82,8 @@ contains
     if (present(solver)) op%solver = solver
     if (present(ierr)) ierr = 0
     op%m_diag = m_diag(1:op%nn)
-    call alloc_stream(op%inv_diag, 2, op%nn, 0.0_dp)
-    call alloc_stream(op%free, 2, dom%nlocal, 0.0_dp)
+    call alloc_stream(op%inv_diag, size(fixed, 1), op%nn, 0.0_dp)
+    call alloc_stream(op%free, size(fixed, 1), dom%nlocal, 0.0_dp)
     if (.not. consistent) then
       call lumped_init(op%impl, op%mass_core_t, fixed)
       return

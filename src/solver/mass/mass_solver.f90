@@ -25,10 +25,10 @@ module ictus_solver_mass_solver
     logical :: consistent = .false.
     !> Lumped masses (owned nodes).
     real(dp), allocatable :: m_diag(:)
-    !> 1/m on free dofs, 0 on fixed dofs and massless nodes (2, nn); also the preconditioner
+    !> 1/m on free dofs, 0 on fixed dofs and massless nodes (ndm, nn); also the preconditioner
     !! (for a consistent mass m is its diagonal, or with the corrector its row sum).
     real(dp), allocatable :: inv_diag(:,:)
-    !> 1 on free dofs, 0 on fixed ones (2, nlocal).
+    !> 1 on free dofs, 0 on fixed ones (ndm, nlocal).
     real(dp), allocatable :: free(:,:)
     !> Statistics: iterations of the last solve, and summed over all solves.
     integer :: last_iter = 0
@@ -111,7 +111,7 @@ contains
     type(mass_core_t), intent(in) :: c
     real(dp), intent(in) :: v(:,:)
     real(dp), intent(inout) :: mv(:,:)
-    call csr_matvec(c%nn, self%m%g%row_ptr, self%m%g%col, self%m%val, v, mv)
+    call csr_matvec(c%nn, self%m%g%row_ptr, self%m%g%col, self%m%val, v, mv, size(v, 1))
   end subroutine consistent_apply
 
   !> What the set-up of every consistent solver starts with: s%m <- m (this rank's rows), and
@@ -136,7 +136,7 @@ contains
     call core_diagonal(c, d, fixed)
   end subroutine consistent_setup
 
-  !> c%free and c%inv_diag from the dofs `fixed(2, nlocal)` and the diagonal d (owned nodes)
+  !> c%free and c%inv_diag from the dofs `fixed(ndm, nlocal)` and the diagonal d (owned nodes)
   !! that the solver divides by: a dof is free when not fixed and its node has d > 0.
   subroutine core_diagonal(c, d, fixed)
     type(mass_core_t), intent(inout) :: c
@@ -144,12 +144,12 @@ contains
     logical, intent(in) :: fixed(:,:)
     integer :: i, k
     do i = 1, c%nlocal
-      do k = 1, 2
+      do k = 1, size(fixed, 1)
         c%free(k, i) = merge(0.0_dp, 1.0_dp, fixed(k, i))
       end do
     end do
     do i = 1, c%nn
-      do k = 1, 2
+      do k = 1, size(fixed, 1)
         if (fixed(k, i) .or. .not. d(i) > 0.0_dp) then
           c%free(k, i) = 0.0_dp
           c%inv_diag(k, i) = 0.0_dp

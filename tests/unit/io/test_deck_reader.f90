@@ -11,7 +11,9 @@ program test_deck_reader
       ETYPE_Q4, ETYPE_Q8, SET_NODE, SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_ETA0, &
       SURF_ELEMENT, SURF_PATCH, MASS_ALPHA, MASS_HRZ, MASS_ROW_SUM, HRZ_FULL, HRZ_GAUSS2, &
       OP_ELEVATE, OP_REFINE, CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT, &
-      AMP_DEF_SMOOTH_STEP, AMP_DEF_TABULAR, DLOAD_GRAV, DLOAD_PRESSURE, BC_DISPLACEMENT, BC_VELOCITY
+      AMP_DEF_SMOOTH_STEP, AMP_DEF_TABULAR, DLOAD_GRAV, DLOAD_PRESSURE, BC_DISPLACEMENT, &
+      BC_VELOCITY, ANALYSIS_3D
+  use ictus_elements_types, only: ETYPE_C3D8, ETYPE_C3D20, ETYPE_C3D27
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo, real_text
   use ictus_io_deck_record, only: deck_record_digest
@@ -38,6 +40,9 @@ program test_deck_reader
   call case_round_trip(t, dir//'/step_output.inp', 'roundtrip_output.inp')
   call case_loads(t, dir//'/loads.inp')
   call case_round_trip(t, dir//'/loads.inp', 'roundtrip_loads.inp')
+  call case_3d(t, dir//'/model_3d.inp')
+  call case_round_trip(t, dir//'/model_3d.inp', 'roundtrip_3d.inp')
+  call case_record(t, dir//'/model_3d.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
   call case_record(t, dir//'/model_fe.inp')
   call case_record(t, dir//'/patch_halfdisc.inp')
@@ -387,6 +392,48 @@ contains
           'loads: TYPE=DISPLACEMENT with an amplitude, empty last dof')
     end if
   end subroutine case_loads
+
+  !> A 3D deck: three coordinates per node, the hexahedra (C3D20 and C3D27 continued over
+  !! two lines, C3D20R with its 2x2x2 rule), faces S5 and S6, dof 3, gravity along z.
+  subroutine case_3d(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    integer :: n0
+    n0 = error_count()
+    call read_deck(path, d)
+    call t%equal_int(error_count() - n0, 0, '3d: no errors')
+    call t%true(d%ndm == 3 .and. d%analysis == ANALYSIS_3D, '3d: dimension 3, analysis 3D')
+    call t%true(d%n_nodes == 36 .and. size(d%node_x, 1) == 3, '3d: 36 nodes of 3 coordinates')
+    if (d%n_nodes == 36) call t%true(all(d%node_x(:, 36) == [2.0_dp, 1.0_dp, 1.0_dp]), &
+        '3d: coordinates of node 36')
+    call t%equal_int(d%n_blocks, 4, '3d: four element blocks')
+    if (d%n_blocks == 4) then
+      call t%true(d%blocks(1)%etype == ETYPE_C3D8 .and. d%blocks(1)%gauss == 2, &
+          '3d: C3D8, 2x2x2 points')
+      call t%true(d%blocks(2)%etype == ETYPE_C3D20 .and. d%blocks(2)%nen == 20 .and. &
+          d%blocks(2)%gauss == 3, '3d: C3D20, 3x3x3 points')
+      call t%true(all(d%blocks(2)%conn(15:20, 1) == [34, 29, 13, 15, 23, 21]), &
+          '3d: C3D20 continued on the next line')
+      call t%true(d%blocks(3)%etype == ETYPE_C3D20 .and. d%blocks(3)%gauss == 2, &
+          '3d: C3D20R is C3D20 with 2x2x2 points')
+      call t%true(d%blocks(4)%etype == ETYPE_C3D27 .and. d%blocks(4)%conn(27, 1) == 17 .and. &
+          d%blocks(4)%line(1) == 58, '3d: C3D27 over two lines, located at its first')
+    end if
+    call t%true(d%n_surfaces == 1, '3d: one surface')
+    if (d%n_surfaces == 1) call t%true(all(d%surfaces(1)%face == [5, 6]), '3d: faces S5, S6')
+    call t%true(d%n_boundaries == 1, '3d: one boundary line')
+    if (d%n_boundaries == 1) call t%true(d%boundaries(1)%last_dof == 3, '3d: dofs 1 to 3')
+    if (d%n_velocities == 1) call t%true(d%velocities(1)%dof == 3, '3d: velocity dof 3')
+    if (d%n_cloads == 1) call t%true(d%cloads(1)%dof == 3, '3d: load on dof 3')
+    call t%true(d%n_dloads == 1, '3d: one gravity line')
+    if (d%n_dloads == 1) call t%true(all(d%dloads(1)%dir == [0.0_dp, 0.0_dp, -1.0_dp]), &
+        '3d: gravity along -z')
+    call t%true(index(deck_echo(d, .true.), '*ANALYSIS, TYPE=3D') > 0 .and. &
+        index(deck_echo(d, .true.), '36, 2, 1, 1') > 0 .and. &
+        index(deck_echo(d, .true.), ', GRAV, 9.81, 0, 0, -1') > 0, &
+        '3d: echo of the analysis, a node and the gravity')
+  end subroutine case_3d
 
   !> deck_echo(full) written to a file and read again gives the same deck.
   subroutine case_round_trip(t, path, copy)
