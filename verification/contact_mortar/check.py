@@ -127,6 +127,9 @@ def patch_tests(args, chk):
     for lo, n_lo, up, n_up in (("Q8", 8, "IGA", 11), ("IGA", 10, "Q8", 21)):
         label = f"tie patch test (tension), {lo} {n_lo} vs {up} {n_up}"
         p, f1, f2, pp = patch_run(args, chk, lo, n_lo, up, n_up, "TIE")
+        out = os.path.join(args.work, f"patch_{lo}{n_lo}_{up}{n_up}_tie.h5")
+        chk.true(vcheck.processed_deck_reruns(args, out),
+                 f"{label}: the processed deck (*TIE) reruns bit for bit")
         chk.below(float(np.max(np.abs(p - pp))) / pp, 1e-8,
                   f"{label}: max ||P_A| - p_pc|/p_pc over {len(p)} slave nodes")
         chk.close(f1, pp * W, 1e-8, f"{label}: the lower block pulled up by p_pc W")
@@ -179,6 +182,8 @@ def momentum(args, chk):
             chk.below(a["momentum_err"], 1e-12, "Hertz 8 vs 11, MORTAR: total y momentum kept")
             vcheck.check_ranks_and_restart(args, chk, path, out, ranks=(2, 3),
                                            label="Hertz 8 vs 11, MORTAR: ")
+            chk.true(vcheck.processed_deck_reruns(args, out),
+                     "Hertz 8 vs 11, MORTAR: the processed deck reruns bit for bit")
     chk.true(res["TWO HALF PASS"][0] > 0.05, "Hertz 8 vs 11, TWO HALF PASS: the two forces "
              f"differ ({res['TWO HALF PASS'][0]:.3f} of the peak; what MORTAR removes)")
 
