@@ -454,6 +454,21 @@ def run_suite(args, work, sizes, cases):
         print(f"| {t} | {m} | {v} |")
     for n in notes:
         print("benchmark: " + n)
+    # the checks of the kernel suite on the ictus-bench runs: the spread of the np = 1
+    # triads, the np = 2 triad against the np = 1 one
+    checks = bm.host_checks(
+        {c: {n: r["bench"] for n, r in runs.items() if "bench" in r} for c, runs in res.items()},
+        {c: (res[c][n]["bench"], r["bench"]) for c, runs in np2.items() for n, r in runs.items()
+         if "bench" in r})
+    if max(load0, load1) > 1.5:
+        checks.insert(0, f"the load average was {max(load0, load1):.2f} (other processes "
+                      "were running)")
+    if checks:
+        print()
+        print("benchmark: WARNING: the host's memory bandwidth or load moved during this run; "
+              "each floor uses the triad of its own case (run again):")
+        for line in checks:
+            print("  - " + line)
 
 
 def report(r, seconds):
