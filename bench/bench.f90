@@ -1,6 +1,6 @@
 !> ictus-bench: measures the kernels of an explicit step on the model of a deck.
 !!
-!!   ictus-bench deck.inp [--steps N] [--repeat R] [--stream-mb M]
+!!   ictus-bench deck.inp [--steps N] [--repeat R] [--stream-mb M] [--no-elem]
 !!
 !! Builds the model, the operators and the contact exactly as `ictus` does, then times, each
 !! over N repetitions (default 50): the stiffness product alone; the whole step on the run's
@@ -25,7 +25,8 @@
 !! not timed), t_elem the element-loop internal force (INTERNAL FORCE=ELEMENT) of the same
 !! model, t_geom the computation of the shape derivatives and volume weights that the element
 !! loop stores (what recomputing them every step would add to t_elem; best of 3), dt the step
-!! used. The time step is the deck's dt, or for dt = 0 the automatic
+!! used (--no-elem: the element loop is neither set up nor timed, t_elem = t_geom = 0). The
+!! time step is the deck's dt, or for dt = 0 the automatic
 !! one (0.9 * 2/omega_max) as in a run. The motion starts from
 !! a rough velocity field (see below). Nothing is checked, nothing is written.
 program ictus_bench
@@ -77,7 +78,7 @@ program ictus_bench
   real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, t_kstep, t_elem, t_geom, tg0, dt, &
       stream_bw, bytes_kmv, mass_iter, sink
   logical, allocatable :: sync(:)
-  logical :: tuned
+  logical :: tuned, with_elem
   real(dp), allocatable :: alpha(:), times(:,:), u_save(:,:), v_save(:,:), a_save(:,:), &
       sa(:), sb(:), sc(:), stream(:)
   real(dp) :: omega
@@ -90,6 +91,7 @@ program ictus_bench
   nsteps = 50
   nrep = 3
   stream_mb = 768
+  with_elem = .true.
   i = 0
   do while (i < command_argument_count())
     i = i + 1
@@ -108,13 +110,15 @@ program ictus_bench
       i = i + 1
       arg = command_arg(i)
       read(arg, *) stream_mb
+    case ('--no-elem')
+      with_elem = .false.
     case default
       path = arg
     end select
   end do
   if (.not. allocated(path)) then
     call input_error('command line', 'usage: ictus-bench deck.inp [--steps N] [--repeat R] '// &
-        '[--stream-mb M]')
+        '[--stream-mb M] [--no-elem]')
     call terminate(1)
   end if
   call read_deck(path, deck)
@@ -139,8 +143,10 @@ program ictus_bench
   where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
   call force_op_init(fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
   ! the element-loop internal force of the same model, timed beside K u
-  call force_op_init(fop_el, FORCE_ELEMENT, model, dom, ops%k, mop%consistent, ierr)
-  allocate(hist_el(fop_el%el%nhist, size(fop_el%el%dvol, 1), fop_el%el%nelem), source=0.0_dp)
+  if (with_elem) then
+    call force_op_init(fop_el, FORCE_ELEMENT, model, dom, ops%k, mop%consistent, ierr)
+    allocate(hist_el(fop_el%el%nhist, size(fop_el%el%dvol, 1), fop_el%el%nelem), source=0.0_dp)
+  end if
   call state_init(s, fop, mop, dom, model%u_fixed(:, dom%halo%gid), &
       model%v0(:, dom%halo%gid), alpha, ops%m_pos, dt)
   between%cs => cs
@@ -200,8 +206,8 @@ program ictus_bench
   t_kread = median(times(8, :))
   t_kstep = median(times(9, :))
   t_elem = median(times(10, :))
-  t_geom = huge(1.0_dp)
-  do r = 1, 3
+  t_geom = merge(huge(1.0_dp), 0.0_dp, with_elem)
+  do r = 1, merge(3, 0, with_elem)
     call barrier()
     tg0 = wall_time()
     call element_loop_geometry(fop_el%el, model, ierr)
@@ -300,6 +306,7 @@ contains
         t(9) = t(9) + (wall_time() - t0)
       end if
       ! the element-loop internal force of the same model (INTERNAL FORCE=ELEMENT)
+      if (.not. with_elem) cycle
       call barrier()
       t0 = wall_time()
       do k = 1, m

@@ -3,6 +3,8 @@
 
     bench/benchmark.py [--quick] [--sizes 1e4,1e5,1e6] [--no-build] [--build-dir DIR]
                          [--work DIR] [--repeat R] [--steps N] [--no-mpi] [--cases LIST]
+    bench/benchmark.py --suite real [--sizes 1e5,1e6] [...]   (bench/real.py: the runs users
+                         make, timed through build/bin/ictus with their output)
 
 Builds Release (scripts/setup.sh Release, unless --no-build), generates decks of growing size
 in a scratch directory (square meshes of about `size` elements: Q8 with HRZ lumping or a
@@ -52,6 +54,8 @@ EXTRA_CASES = ["q8-consistent-cg", "iga-consistent-cg", "q8-consistent-cholesky"
 DAMPING_ALPHA = 1.0
 # the consistent-mass solvers as ictus-bench reports them (MASS_SOLVER_* of src/solver/model.f90)
 SOLVERS = {1: "CG", 2: "Cholesky", 3: "corrector", 4: "Kronecker"}
+# Open MPI refuses to run as root without these (containers, CI)
+MPI_ENV = dict(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 
 
 # ---------------------------------------------------------------- decks
@@ -173,16 +177,16 @@ def parse_bench(out):
     return d
 
 
-def run_bench(args, deck, nel, slow, ranks=1):
+def run_bench(args, deck, nel, slow, ranks=1, steps=0, extra=()):
     # about 0.2-2 s per timed phase; a step with a factorised or CG consistent mass costs
     # several to tens of K u products (slow), a lumped or Kronecker one about one to three
-    steps = args.steps or (int(min(50, max(3, 5.0e5 / nel))) if slow else
-                           int(min(400, max(10, 2.0e7 / nel))))
+    steps = steps or args.steps or (int(min(50, max(3, 5.0e5 / nel))) if slow else
+                                    int(min(400, max(10, 2.0e7 / nel))))
     cmd = [os.path.join(args.build_dir, "bin", "ictus-bench"), deck, "--steps", str(steps),
-           "--repeat", str(args.repeat), "--stream-mb", str(args.stream_mb)]
+           "--repeat", str(args.repeat), "--stream-mb", str(args.stream_mb)] + list(extra)
     env = dict(os.environ)
     if ranks > 1:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        env.update(MPI_ENV)
         cmd = [args.mpirun, "--oversubscribe", "-np", str(ranks)] + cmd
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True, env=env)
@@ -241,9 +245,9 @@ HEAD = ["case", "elements", "dofs", "steps", "step", "per pass", "1-step", "swep
         "it/solve", "contact ns/point"]
 
 
-def print_table(rows):
-    w = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(HEAD)]
-    print("| " + " | ".join(h.rjust(w[i]) for i, h in enumerate(HEAD)) + " |")
+def print_table(rows, head=HEAD):
+    w = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(head)]
+    print("| " + " | ".join(h.rjust(w[i]) for i, h in enumerate(head)) + " |")
     print("|" + "|".join("-" * (x + 1) + ":" for x in w) + "|")
     for r in rows:
         print("| " + " | ".join(c.rjust(w[i]) for i, c in enumerate(r)) + " |")
@@ -435,23 +439,31 @@ def build_type(build_dir):
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true", help="sizes 1e4 and 1e5 (smoke run)")
-    ap.add_argument("--sizes", help="comma-separated element counts (default 1e4,1e5,1e6)")
+    ap.add_argument("--suite", choices=["kernels", "real"], default="kernels",
+                    help="kernels: the square meshes of doc/performance.md §1-2 (default); "
+                         "real: the runs users make (bench/real.py, doc/performance.md §6)")
+    ap.add_argument("--quick", action="store_true",
+                    help="sizes 1e4 and 1e5 (smoke run; --suite real: 1e4)")
+    ap.add_argument("--sizes", help="comma-separated element counts (default 1e4,1e5,1e6; "
+                    "--suite real: 1e5)")
     ap.add_argument("--no-build", action="store_true", help="use the existing build")
     ap.add_argument("--build-dir", default=os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
     ap.add_argument("--work", help="scratch directory for the decks (default: a temporary one)")
     ap.add_argument("--repeat", type=int, default=3, help="timing sets per run (median)")
-    ap.add_argument("--steps", type=int, default=0, help="steps per timing (default by size)")
+    ap.add_argument("--steps", type=int, default=0, help="steps per timing (default by size; "
+                    "--suite real: steps of each ictus run, default 500 lumped, 100 others)")
     ap.add_argument("--stream-mb", type=int, default=768, help="STREAM triad arrays, MB in all")
     ap.add_argument("--no-mpi", action="store_true", help="skip the np = 2 runs")
-    ap.add_argument("--cases", default=",".join(CASES),
-                    help="subset of " + ",".join(CASES + EXTRA_CASES))
+    ap.add_argument("--cases", help="subset of " + ",".join(CASES + EXTRA_CASES) +
+                    " (--suite real: of bench/real.py's CASES and EXTRA_CASES)")
     ap.add_argument("--alloc-check", action="store_true",
                     help="also count the heap allocations of ictus runs of 100 and 1000 steps")
     args = ap.parse_args()
+    real = args.suite == "real"
+    default_sizes = ("1e4" if real else "1e4,1e5") if args.quick else \
+        ("1e5" if real else "1e4,1e5,1e6")
     try:
-        sizes = [int(float(s)) for s in (args.sizes or ("1e4,1e5" if args.quick else
-                                                         "1e4,1e5,1e6")).split(",")]
+        sizes = [int(float(s)) for s in (args.sizes or default_sizes).split(",")]
     except ValueError:
         ap.error(f"--sizes: expected comma-separated element counts (e.g. 1e4,1e5), "
                  f"got {args.sizes}")
@@ -463,9 +475,15 @@ def main():
         ap.error(f"--steps: expected a positive number of steps (0: by size), got {args.steps}")
     if args.stream_mb < 1:
         ap.error(f"--stream-mb: expected a positive size in MB, got {args.stream_mb}")
-    cases = [c for c in args.cases.split(",") if c]
+    if real:
+        import real as suite
+        known, cases = suite.CASES + suite.EXTRA_CASES, suite.CASES
+    else:
+        known, cases = CASES + EXTRA_CASES, CASES
+    if args.cases is not None:
+        cases = [c for c in args.cases.split(",") if c]
     for c in cases:
-        if c not in CASES + EXTRA_CASES:
+        if c not in known:
             ap.error(f"unknown case {c}")
     args.build_dir = os.path.abspath(args.build_dir)
     if not args.no_build:
@@ -481,6 +499,11 @@ def main():
     work = args.work or tempfile.mkdtemp(prefix="ictus-bench-")
     os.makedirs(work, exist_ok=True)
     print(f"benchmark: decks in {work}; sizes {sizes}; cases {cases}", flush=True)
+    if real:
+        suite.run_suite(args, work, sizes, cases)
+        if not args.work:
+            shutil.rmtree(work, ignore_errors=True)
+        return
     load0 = loadavg()
     res, rows, np2 = {}, [], {}
     for case in cases:

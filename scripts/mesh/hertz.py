@@ -30,9 +30,12 @@ constant in time) and mass-proportional damping ALPHA relaxes the body against t
 static state (dynamic relaxation).
 
 Bad values (counts < 1, degree < 2, a penalty, t_end or grading ratio <= 0, a negative dt,
-alpha or field-every, mass passes outside [0, 50], D outside (0, 2R), non-finite numbers; Q8
-with two bodies: n > 181, as the lower body's ids start at 100001) end the script with a
-one-line message and exit status 1, before anything is written.
+alpha or field-every, mass passes outside [0, 50], D outside (0, 2R), non-finite numbers) end
+the script with a one-line message and exit status 1, before anything is written.
+
+Ids of two Q8 bodies: the lower body's node and element ids start at 100001 where the upper
+body has at most 100000 nodes (n <= 181), else at 1 + the next power of ten above its count
+(n = 707, 1.5 million nodes per body: 10000001; bench/benchmark.py --suite real).
 """
 import argparse
 import math
@@ -43,7 +46,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import halfdisc  # noqa: E402
 import disc  # noqa: E402
 
-LOWER_IDS = 100000   # Q8: id offset of the lower body
+LOWER_IDS = 100000   # Q8: id offset of the lower body (of meshes up to n = 181, lower_ids)
 MAX_PASSES = 50      # upper end of *DYNAMIC, MASS PASSES= (deck_step.f90)
 
 
@@ -99,9 +102,9 @@ def check_options(a):
               a.static is None, "--kind", "iga or q8 with --elevate, --grade-* or --static "
               "(iga4 is quadratic and uniform)", a.kind)
     if a.kind == "q8" and not a.wall:
-        n_max = max(n for n in range(1, 400) if halfdisc.q8_id_count(n) <= LOWER_IDS)
-        check(a.n <= n_max, "--n", f"at most {n_max} with two bodies (the upper body's ids "
-              f"must stay below the lower body's, {LOWER_IDS + 1} on)", a.n)
+        last = halfdisc.MAX_ID - halfdisc.q8_id_count(max(a.n, a.lower))
+        check(lower_ids(a.n) <= last, "--n", f"a mesh whose lower body's ids stay <= "
+              f"{halfdisc.MAX_ID}", a.n)
     check(0 <= a.mass_passes <= MAX_PASSES, "--mass-passes",
           f"an integer in [0, {MAX_PASSES}] (0: the default solver)", a.mass_passes)
     check(finite(a.penalty) and a.penalty > 0.0, "--penalty", "a positive finite penalty",
@@ -121,6 +124,13 @@ def check_options(a):
               "a displacement D in (0, 8) (down, less than the height 2R = 8 of the body)",
               a.static)
     check(finite(a.alpha) and a.alpha >= 0.0, "--alpha", "a finite damping >= 0", a.alpha)
+
+
+def lower_ids(n):
+    """The id offset of the lower Q8 body: LOWER_IDS, or the next power of ten above the
+    upper body's count of ids when that exceeds it."""
+    count = halfdisc.q8_id_count(n)
+    return LOWER_IDS if count <= LOWER_IDS else 10 ** len(str(count))
 
 
 def graded_ok(n, q):
@@ -285,7 +295,7 @@ def deck(a, command):
     out.append(_body(a, "upper", "UPPER", 0))
     bodies = ["UPPER"]
     if not a.wall:
-        out.append(_body(a, "lower", "LOWER", LOWER_IDS))
+        out.append(_body(a, "lower", "LOWER", lower_ids(a.n) if a.kind == "q8" else LOWER_IDS))
         bodies.append("LOWER")
     out.append("*BOUNDARY\n" + "".join(f"{b}_SYM, 1, 1\n" for b in bodies))
     if static:
