@@ -19,7 +19,10 @@ Cases (both bodies of the Hertz problem count as elements):
   (scripts/mesh/gmsh_plate.py: unstructured CPS4 or CPS8, plane stress), moving at v = 1
   onto a rigid wall under its bottom edge (*RIGID WALL, penalty 0.1 E/h: every bottom node in
   contact from the first step). Skipped, with a message, without gmsh's Python module.
-EXTRA_CASES: hertz-q8-consistent, hertz-q8-nlgeom.
+EXTRA_CASES: hertz-q8-consistent, hertz-q8-nlgeom; plate-q4-sorted, plate-q8-sorted: the same
+gmsh mesh with its nodes renumbered in rows along y (sort_nodes: the order of the kernel
+suite's lattices; gmsh numbers the nodes that its splitting and the second order add after
+the others, and ictus keeps a deck's numbering).
 
 Per case and size: the time loop of the ictus runs, in ns per element per step, read from
 the log's progress lines (between the first line after the sweep tuning and the last, so
@@ -45,7 +48,7 @@ HERTZ = os.path.join(bm.SCRIPTS, "mesh", "hertz.py")
 GMSH_PLATE = os.path.join(bm.SCRIPTS, "mesh", "gmsh_plate.py")
 CASES = ["hertz-iga", "hertz-q8", "hertz-iga-consistent", "hertz-iga-nlgeom", "plate-q4",
          "plate-q8"]
-EXTRA_CASES = ["hertz-q8-consistent", "hertz-q8-nlgeom"]
+EXTRA_CASES = ["hertz-q8-consistent", "hertz-q8-nlgeom", "plate-q4-sorted", "plate-q8-sorted"]
 # the length of the user's run (its field snapshots every 1 % of it)
 T_USER = {"hertz": 0.9, "plate": 1.0}
 # the plate: lx x ly, 4 x 2 holes of radius 0.25, E, nu, rho; gmsh gives about
@@ -86,11 +89,15 @@ def plate_model(path, case, size):
     subprocess.run([sys.executable, GMSH_PLATE, mesh, "--lx", str(PLATE["lx"]), "--ly",
                     str(PLATE["ly"]), "--holes", PLATE["holes"], "--radius",
                     str(PLATE["radius"]), "--size", repr(h), "--refine", str(refine),
-                    "--order", "1" if case == "plate-q4" else "2"], check=True)
+                    "--order", "1" if case.startswith("plate-q4") else "2"], check=True)
+    # the elements are about h/2^(refine + 1) (gmsh splits each recombined quadrangle into
+    # four, --refine each element into four)
+    el_size = 0.5 ** (refine + 1) * h
+    if case.endswith("-sorted"):
+        sort_nodes(mesh, el_size)
     nel, faces = bottom_faces(mesh)
-    # penalty 0.1 E/h, as the contact cases of the kernel suite; the elements are about
-    # h/2^(refine + 1) (gmsh splits each recombined quadrangle into four)
-    eps = 0.1 * PLATE["E"] / (0.5 ** (refine + 1) * h)
+    # penalty 0.1 E/h, as the contact cases of the kernel suite
+    eps = 0.1 * PLATE["E"] / el_size
     with open(path, "w") as f:
         f.write(f"*HEADING\nbenchmark {case}: plate with holes (gmsh) on a rigid wall\n"
                 f"*INCLUDE, INPUT={os.path.basename(mesh)}\n*MATERIAL, NAME=MAT\n*ELASTIC\n"
@@ -102,6 +109,36 @@ def plate_model(path, case, size):
                 f"PLATE_BOTTOM\n*INITIAL CONDITIONS, TYPE=VELOCITY\nPLATE, 2, {-PLATE['v']!r}\n"
                 "*MASS, TYPE=HRZ\n")
     return nel, False
+
+
+def sort_nodes(mesh, band):
+    """Renumbers the nodes of a gmsh export (file rewritten) row by row: by y in rows of
+    height band, by x within a row, as the lattices of the kernel suite are numbered; the
+    element blocks follow (their ids and the element sets stay)."""
+    with open(mesh) as f:
+        lines = f.read().splitlines()
+    heads = [i for i, ln in enumerate(lines) if ln.startswith("*")] + [len(lines)]
+    blocks = [(heads[k], heads[k + 1]) for k in range(len(heads) - 1)]
+    node = next((a, b) for a, b in blocks if lines[a].upper().startswith("*NODE"))
+    xyz = np.array([ln.split(",") for ln in lines[node[0] + 1:node[1]]], dtype=float)
+    ids = xyz[:, 0].astype(np.int64)
+    order = np.lexsort((xyz[:, 1], np.floor(xyz[:, 2] / band)))
+    new = np.zeros(ids.max() + 1, dtype=np.int64)
+    new[ids[order]] = np.arange(1, len(ids) + 1)
+    out = lines[:node[0] + 1] + [f"{k + 1}, {x!r}, {y!r}, {z!r}" for k, (x, y, z) in
+                                 enumerate(xyz[order, 1:].tolist())]
+    for a, b in blocks:
+        if a == node[0]:
+            continue
+        out.append(lines[a])
+        if lines[a].upper().startswith("*ELEMENT"):
+            conn = np.array([ln.split(",") for ln in lines[a + 1:b]], dtype=np.int64)
+            conn[:, 1:] = new[conn[:, 1:]]
+            out += [", ".join(map(str, r)) for r in conn.tolist()]
+        else:
+            out += lines[a + 1:b]
+    with open(mesh, "w") as f:
+        f.write("\n".join(out) + "\n")
 
 
 def bottom_faces(mesh):
