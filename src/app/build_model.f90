@@ -649,26 +649,23 @@ contains
   end subroutine build_conditions
 
   !> The step settings that a 3D model has no solver for yet, refused at *DYNAMIC: the
-  !! assembled stiffness (2 x 2 blocks) and the consistent-mass solvers other than CG (the
-  !! Kronecker and corrector solvers are 2D, the Cholesky factor keeps 2 components). AUTO
-  !! takes the element loop (ictus_solver_internal_force) and, for a consistent mass, CG.
+  !! consistent-mass solvers KRONECKER and CORRECTOR (2D: tensor-product lattices of
+  !! quadrilaterals and patches, and the corrector's passes on two components). AUTO takes CG
+  !! for a consistent mass of hexahedra; CHOLESKY factorises it for the three components.
+  !! The internal force: ictus_solver_internal_force (AUTO weighs the memory of K in 3D).
   subroutine step_3d(deck, model)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
     character(len=:), allocatable :: at
     at = trim(deck%step%dynamic_where)
-    if (model%force_kind == FORCE_ASSEMBLED) call input_error(at, '*DYNAMIC, EXPLICIT: '// &
-        'INTERNAL FORCE=ASSEMBLED: not yet in 3D (the assembled stiffness has 2 x 2 blocks); '// &
-        'a 3D model forms the internal force element by element (INTERNAL FORCE=ELEMENT, '// &
-        'which AUTO takes)')
     select case (model%mass_solver)
     case (MASS_SOLVER_AUTO)
       model%mass_solver = MASS_SOLVER_CG
-    case (MASS_SOLVER_KRONECKER, MASS_SOLVER_CORRECTOR, MASS_SOLVER_CHOLESKY)
+    case (MASS_SOLVER_KRONECKER, MASS_SOLVER_CORRECTOR)
       if (.not. any(model%mass_kind == MASS_CONSISTENT)) return
       call input_error(at, '*DYNAMIC, EXPLICIT: MASS SOLVER='// &
           trim(deck%step%mass_solver)//': not yet in 3D; a consistent mass of hexahedra is '// &
-          'solved by MASS SOLVER=CG (which AUTO takes in 3D)')
+          'solved by MASS SOLVER=CG (which AUTO takes in 3D) or CHOLESKY')
     end select
   end subroutine step_3d
 

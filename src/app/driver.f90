@@ -174,9 +174,10 @@ contains
     call time_loop(opt, deck, model, dom, ops, mop, contact, cs, dt, omega)
   end subroutine driver_run
 
-  !> omega_max of the model without contact (ictus_solver_timestep): from the assembled K in
-  !! 2D; in 3D from the element loop's stiffness product, whose stored geometry is freed on
-  !! return (the stepper sets up its own).
+  !> omega_max of the model without contact (ictus_solver_timestep): from the assembled K
+  !! where there is one (2D; 3D with the assembled K); else (3D with the element loop) from the
+  !! element loop's stiffness product, whose stored geometry is freed on return (the stepper
+  !! sets up its own).
   subroutine estimate_omega(model, dom, ops, mop, omega, iters)
     type(model_t), intent(in) :: model
     type(domain_t), intent(inout) :: dom
@@ -186,7 +187,7 @@ contains
     integer, intent(out) :: iters
     type(element_force_t) :: kel
     integer :: ierr
-    if (model%ndm == 2) then
+    if (allocated(ops%k%val)) then
       call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-12_dp, 5000)
       return
     end if

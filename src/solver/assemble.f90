@@ -1,11 +1,12 @@
-!> Assembly of the constant operators of linear elastodynamics: the stiffness (2x2 block CSR;
-!! 2D only: a 3D model forms K u element by element), the consistent mass (scalar CSR, where
-!! asked for) and the lumped nodal masses.
+!> Assembly of the constant operators of linear elastodynamics: the stiffness (block CSR, 2x2
+!! blocks in 2D, 3x3 in 3D where the model takes the assembled K: `stiffness_fits`), the
+!! consistent mass (scalar CSR, where asked for) and the lumped nodal masses.
 !!
 !! This runs once before the time loop. Elements are processed through the element library
 !! with the shape data of their type (Lagrange) or of their Bezier-extracted span (NURBS).
 module ictus_solver_assemble
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, i8
+  use ictus_core_memory, only: available_memory
   use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_elements_types, only: elem_shape_t, TASK_MASS, TASK_STIFFNESS, TASK_JACOBIAN
   use ictus_elements_library, only: element_shape_data, element_routine, element_out_t, &
@@ -16,7 +17,8 @@ module ictus_solver_assemble
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
   use ictus_mass_lumping, only: lump_row_sum, lump_hrz, lump_alpha_q8
   use ictus_parallel_repro, only: repro_sum
-  use ictus_solver_model, only: model_t
+  use ictus_parallel_env, only: allreduce_max, allreduce_sum, env_node_size
+  use ictus_solver_model, only: model_t, model_force_kind, FORCE_AUTO, FORCE_ASSEMBLED
   use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_sparse, only: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, &
       csr_init, bsr_add_element, csr_add_element
@@ -27,8 +29,14 @@ module ictus_solver_assemble
 
   !> The assembled constant operators.
   type :: operators_t
-    !> Stiffness K (2x2 blocks; not assembled in 3D).
+    !> Stiffness K (2x2 blocks in 2D; 3x3 blocks in 3D, where k%val is allocated only when
+    !! the model takes the assembled K: `stiffness_fits`).
     type(bsr_t) :: k
+    !> 3D: the bytes of the 3x3 K (all ranks), the memory available (bytes; -1 unknown), and
+    !! whether AUTO left K out because it would take more than half of it on some node.
+    real(dp) :: k_bytes = 0.0_dp
+    real(dp) :: k_avail = -1.0_dp
+    logical :: k_short = .false.
     !> True when at least one element uses the consistent mass.
     logical :: consistent = .false.
     !> Consistent mass (scalar; lumped elements add their diagonal into it).
@@ -116,7 +124,11 @@ contains
     nl = dom%nlocal
     call graph_from_elements(dom%nowned, nl, dom%nelem, model%nen_max, &
         model%nen(dom%elem), dom%conn, dom%halo%gid, g)
-    if (model%ndm == 2) call bsr_init(ops%k, g)
+    if (model%ndm == 2) then
+      call bsr_init(ops%k, g)
+    else if (stiffness_fits(model, g, ops)) then
+      call bsr_init(ops%k, g, 3)
+    end if
     ops%consistent = any(model%mass_kind == MASS_CONSISTENT)
     if (ops%consistent) call csr_init(ops%m, g)
     allocate(ops%m_diag(nl), ops%m_pos(nl), ops%c_diag(nl), source=0.0_dp)
@@ -140,14 +152,14 @@ contains
       xl = model%x0(:, model%conn(1:nen, e))
       mt = model%mat(e)
       call element_shape(model, e, model%gauss(:, e), cache, 1, shp)
-      if (model%ndm == 2) then
+      if (allocated(ops%k%val)) then
         call element_routine(TASK_STIFFNESS, model%etype(e), shp, xl, model%materials(mt), &
             kout)
         if (kout%ierr /= 0) cycle
         ! K symmetric bit for bit (B^T D B rounds its two triangles differently): the upper
         ! triangle mirrored, so that K's upper blocks give the whole product (bsr_upper_init)
         associate (ke => kout%s)
-          do i = 1, 2*nen - 1
+          do i = 1, model%ndm*nen - 1
             ke(i + 1:, i) = ke(i, i + 1:)
           end do
         end associate
@@ -218,6 +230,33 @@ contains
       end if
     end do
   end subroutine assemble_operators
+
+  !> Whether a 3D model gets its stiffness assembled in 3x3 blocks on graph g: where the deck
+  !! and the laws take the assembled K (`model_force_kind`), and under INTERNAL FORCE=AUTO only
+  !! while its blocks, columns and row pointers take at most half the memory available on
+  !! every node (this rank's bytes times the ranks of its node, against `available_memory`;
+  !! the same decision on all ranks). Sets ops%k_bytes (all ranks), k_avail and k_short.
+  logical function stiffness_fits(model, g, ops) result(fits)
+    type(model_t), intent(in) :: model
+    type(graph_t), intent(in) :: g
+    type(operators_t), intent(inout) :: ops
+    real(dp) :: mine, mem(2)
+    integer(i8) :: avail
+    fits = model_force_kind(model) == FORCE_ASSEMBLED
+    if (.not. fits) return
+    mine = 76.0_dp*real(size(g%col), dp) + 4.0_dp*real(g%n + 1, dp)
+    ops%k_bytes = mine
+    call allreduce_sum(ops%k_bytes)
+    avail = available_memory()
+    mem(1) = mine*env_node_size()
+    mem(2) = -huge(1.0_dp)
+    if (avail >= 0) mem(2) = -real(avail, dp)
+    call allreduce_max(mem)
+    if (mem(2) > -huge(1.0_dp)) ops%k_avail = -mem(2)
+    if (model%force_kind /= FORCE_AUTO) return
+    ops%k_short = mem(2) > -huge(1.0_dp) .and. 2.0_dp*mem(1) > -mem(2)
+    fits = .not. ops%k_short
+  end function stiffness_fits
 
   !> Elements (global indices, increasing) with a non-positive or non-finite Jacobian
   !! determinant at a quadrature point; nonfinite(k) tells which of the two bad(k) has. Runs

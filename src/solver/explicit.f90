@@ -19,7 +19,7 @@
 !! Without output the predictor takes a fused path that also computes u_pre = u_n + dt v_pre
 !! (s%u_next, swapped in by `step_finish`): with the assembled K and a lumped mass one pass
 !! over K (`fused_lumped_step`, or `fused_lumped_rows` with damping, which also leaves the
-!! terms of the damping power per node), for an undamped consistent mass solved along the
+!! terms of the damping power per node; `fused_lumped_rows3` for the 3 x 3 blocks of 3D), for an undamped consistent mass solved along the
 !! lattice directions on one rank the updates inside the solve's last pass (`mass_step`); all
 !! with the bits of the unfused step. Several lumped steps in one sweep over K are the linear
 !! lumped stepper's (ictus_solver_lumped_sweeps).
@@ -33,7 +33,7 @@ module ictus_solver_explicit
   use ictus_parallel_repro, only: repro_dot, repro_sum
   use ictus_parallel_halo, only: halo_exchange
   use ictus_parallel_env, only: allreduce_or
-  use ictus_solver_sparse, only: fused_lumped_step, fused_lumped_rows
+  use ictus_solver_sparse, only: fused_lumped_step, fused_lumped_rows, fused_lumped_rows3
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, mass_step, &
       mass_steps_fused
   use ictus_solver_domain, only: domain_t
@@ -218,7 +218,14 @@ contains
     if (s%fused .and. .not. mop%consistent .and. fop%kind == FORCE_ASSEMBLED) then
       ! the common step in one pass over memory (same operations in the same order as below)
       associate (k => fop%asm%k)
-        if (s%damped) then
+        if (size(k%val, 1) == 3 .and. s%damped) then
+          call fused_lumped_rows3(1, nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, &
+              s%v, s%u_next, s%alpha, s%m_pos, s%pw)
+          call add_damping_work(s, s%step, 1)
+        else if (size(k%val, 1) == 3) then
+          call fused_lumped_rows3(1, nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, &
+              s%v, s%u_next)
+        else if (s%damped) then
           call fused_lumped_rows(1, nn, k%g%row_ptr, k%g%col, k%val, mop%inv_diag, dt, s%u, &
               s%v, s%u_next, s%alpha, s%m_pos, s%pw)
           call add_damping_work(s, s%step, 1)

@@ -14,7 +14,7 @@ module ictus_solver_model
   use ictus_solver_load_spec, only: load_spec_t
   implicit none
   private
-  public :: model_t, model_free, model_kinematics, patch_node, patch_nodes
+  public :: model_t, model_free, model_kinematics, patch_node, patch_nodes, model_force_kind
   public :: FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, output_set_t, VAR_U, VAR_V, VAR_A, VAR_S, &
@@ -132,6 +132,25 @@ module ictus_solver_model
   end type model_t
 
 contains
+
+  !> The internal force that the deck and the laws give model m: the deck's INTERNAL FORCE=
+  !! where it names one, else (AUTO) FORCE_ASSEMBLED where every law is linear, the strain
+  !! small and no element shares its mean dilatation, FORCE_ELEMENT otherwise. In 3D AUTO
+  !! also weighs the memory of the assembled K (`assemble_operators`, `force_choice`).
+  integer function model_force_kind(m) result(kind)
+    type(model_t), intent(in) :: m
+    integer :: k
+    kind = m%force_kind
+    if (kind /= FORCE_AUTO) return
+    kind = FORCE_ASSEMBLED
+    if (m%nlgeom) kind = FORCE_ELEMENT
+    if (allocated(m%mean_dil)) then
+      if (any(m%mean_dil)) kind = FORCE_ELEMENT
+    end if
+    do k = 1, m%nmat
+      if (.not. m%materials(k)%law%linear) kind = FORCE_ELEMENT
+    end do
+  end function model_force_kind
 
   !> How the material laws of model m are evaluated.
   pure function model_kinematics(m) result(k)

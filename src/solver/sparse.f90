@@ -1,9 +1,9 @@
 !> Sparse matrices of the explicit solver.
 !!
-!! The stiffness is stored in block CSR with 2x2 node blocks (`bsr_t`): it moves the fewest
-!! bytes per product, and the product is the memory-bound kernel of every step. The consistent
-!! mass, the same for both displacement components, is a scalar CSR matrix (`csr_t`) on the
-!! same node graph. Both are assembled once from element matrices.
+!! The stiffness is stored in block CSR with 2x2 node blocks in 2D, 3x3 in 3D (`bsr_t`): it
+!! moves the fewest bytes per product, and the product is the memory-bound kernel of every
+!! step. The consistent mass, the same for every displacement component, is a scalar CSR
+!! matrix (`csr_t`) on the same node graph. Both are assembled once from element matrices.
 module ictus_solver_sparse
   use ictus_core_kinds, only: dp, i8
   use ictus_core_memory, only: alloc_stream, available_memory
@@ -13,7 +13,7 @@ module ictus_solver_sparse
   public :: graph_t, bsr_t, csr_t, graph_from_elements, bsr_init, csr_init, bsr_add_element, &
       csr_add_element, bsr_matvec, csr_matvec, csr_diagonal, csr_row_sums, find_col, &
       graph_copy, csr_copy, fused_lumped_step, fused_lumped_rows, bsr_upper_t, bsr_upper_init, &
-      bsr_matvec_ordered, bsr_upper_matvec, bsr3_matvec
+      bsr_matvec_ordered, bsr_upper_matvec, bsr3_matvec, bsr_product, fused_lumped_rows3
 
   !> Node adjacency graph in CSR form (every node is its own neighbour). Rows exist for the
   !! first `n` (owned) nodes; columns are local node indices 1..ncol, sorted in each row by
@@ -284,6 +284,20 @@ contains
     call c_bsr3_matvec(n, row_ptr, col, val, x, y)
   end subroutine bsr3_matvec
 
+  !> y = A x on the n rows of `a` by the block size's product (bsr_matvec for 2 x 2 blocks,
+  !! bsr3_matvec for 3 x 3); x and y hold nb components per node, node after node.
+  subroutine bsr_product(a, n, x, y)
+    type(bsr_t), intent(in) :: a
+    integer, intent(in) :: n
+    real(dp), intent(in) :: x(*)
+    real(dp), intent(inout) :: y(*)
+    if (size(a%val, 1) == 3) then
+      call bsr3_matvec(n, a%g%row_ptr, a%g%col, a%val, x, y)
+    else
+      call bsr_matvec(n, a%g%row_ptr, a%g%col, a%val, x, y)
+    end if
+  end subroutine bsr_product
+
   !> y = A x summed in column order: each row one chain over its blocks in the order of their
   !! columns (global indices), y_i = ((0 + t_1) + t_2) + ..., with t_k = A_ik(:, 1) x_k1 +
   !! A_ik(:, 2) x_k2 (`ictus_bsr_matvec_ordered`, bsr_kernel.c). The product of the
@@ -449,6 +463,47 @@ contains
       x_out(:, i) = [x_in(1, i) + dt*vn1, x_in(2, i) + dt*vn2]
     end do
   end subroutine damped_update
+
+  !> `fused_lumped_rows` for 3 x 3 blocks (3D): rows lo .. lo + len - 1 of
+  !! v += dt (-K x_in)/m, x_out = x_in + dt v in chunks of K x_in (bsr3_matvec) that stay in
+  !! the L1 cache; with `alpha`, `m_pos` and `pw` the damped update of `damped_update` on three
+  !! components. Per component the operations of the unfused 3D step, so the same bits.
+  subroutine fused_lumped_rows3(lo, len, row_ptr, col, val, inv_m, dt, x_in, v, x_out, alpha, &
+      m_pos, pw)
+    integer, intent(in) :: lo, len
+    integer, intent(in) :: row_ptr(*), col(*)
+    real(dp), intent(in) :: val(3, 3, *), inv_m(3, *), dt
+    real(dp), intent(in) :: x_in(3, *)
+    real(dp), intent(inout) :: v(3, *), x_out(3, *)
+    real(dp), intent(in), optional :: alpha(*), m_pos(*)
+    real(dp), intent(inout), optional :: pw(3, *)
+    integer, parameter :: chunk = 512
+    real(dp) :: ku(3, chunk), vn(3), vm(3), h, am
+    integer :: i0, m, l, i
+    do i0 = lo, lo + len - 1, chunk
+      m = min(chunk, lo + len - i0)
+      call bsr3_matvec(m, row_ptr(i0), col, val, x_in, ku)
+      if (present(pw)) then
+        do l = 1, m
+          i = i0 + l - 1
+          h = 0.5_dp*alpha(i)*dt
+          vn = ((1.0_dp - h)*v(:, i) + dt*((-ku(:, l))*inv_m(:, i)))/(1.0_dp + h)
+          vm = 0.5_dp*(v(:, i) + vn)
+          am = alpha(i)*m_pos(i)
+          pw(:, i) = (-(am*vm))*vm
+          v(:, i) = vn
+          x_out(:, i) = x_in(:, i) + dt*vn
+        end do
+        cycle
+      end if
+      do l = 1, m
+        i = i0 + l - 1
+        vn = v(:, i) + dt*((-ku(:, l))*inv_m(:, i))
+        v(:, i) = vn
+        x_out(:, i) = x_in(:, i) + dt*vn
+      end do
+    end do
+  end subroutine fused_lumped_rows3
 
   !> y = (A ⊗ I) x for the scalar matrix acting on every component, on its n rows; x and y
   !! hold `nc` components per node (default 2; 3 in 3D), node after node.

@@ -6,7 +6,7 @@ module ictus_solver_timestep
   use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
-  use ictus_solver_sparse, only: bsr_t, bsr_matvec
+  use ictus_solver_sparse, only: bsr_t, bsr_matvec, bsr_product
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_apply, MASS_SOLVER_CORRECTOR
   use ictus_solver_domain, only: domain_t
   use ictus_solver_force_element, only: element_force_t, element_loop_stiffness
@@ -38,8 +38,8 @@ contains
   !! on the forces, on K Mk^-1 (same eigenvalues as Mk^-1 K) in the Mk^-1 inner product, in
   !! which K Mk^-1 is symmetric (`lanczos_inverse`).
   !!
-  !! K is the assembled stiffness `k` (2D), or with `kel` (a 3D model, whose stiffness is not
-  !! assembled) the element loop's product of the reference tangents
+  !! K is the assembled stiffness `k` (2 x 2 or 3 x 3 blocks), or with `kel` (a 3D model whose
+  !! stiffness is not assembled) the element loop's product of the reference tangents
   !! (`element_loop_stiffness`).
   subroutine omega_max_power(k, mop, dom, omega, iters, rtol, max_iter, kel)
     type(bsr_t), intent(in) :: k
@@ -87,7 +87,7 @@ contains
       if (present(kel)) then
         call element_loop_stiffness(kel, n, q, kq)
       else
-        call bsr_matvec(n, k%g%row_ptr, k%g%col, k%val, q, kq)
+        call bsr_product(k, n, q, kq)
       end if
       kq = kq*mop%free(:, 1:n)
       alpha(j) = repro_dot(n, q, kq, mop%nglobal)

@@ -10,7 +10,7 @@ module ictus_solver_force_assembled
   use ictus_core_kinds, only: dp
   use ictus_parallel_repro, only: repro_dot
   use ictus_solver_sparse, only: bsr_t, bsr_matvec, bsr_upper_t, bsr_upper_init, &
-      bsr_matvec_ordered, bsr_upper_matvec
+      bsr_matvec_ordered, bsr_upper_matvec, bsr3_matvec
   implicit none
   private
   public :: assembled_force_t, assembled_init, assembled_apply, assembled_energy
@@ -37,13 +37,16 @@ contains
     if (ordered) call bsr_upper_init(k, af%kup)
   end subroutine assembled_init
 
-  !> f = K u on the n owned rows; u holds owned and ghost values.
+  !> f = K u on the n owned rows; u holds owned and ghost values, nb components per node (the
+  !! block size of K).
   subroutine assembled_apply(af, n, u, f)
     type(assembled_force_t), intent(in) :: af
     integer, intent(in) :: n
-    real(dp), intent(in) :: u(2, *)
-    real(dp), intent(inout) :: f(2, *)
-    if (.not. af%ordered) then
+    real(dp), intent(in) :: u(*)
+    real(dp), intent(inout) :: f(*)
+    if (size(af%k%val, 1) == 3) then
+      call bsr3_matvec(n, af%k%g%row_ptr, af%k%g%col, af%k%val, u, f)
+    else if (.not. af%ordered) then
       call bsr_matvec(n, af%k%g%row_ptr, af%k%g%col, af%k%val, u, f)
     else if (af%kup%n > 0) then
       call bsr_upper_matvec(af%kup, u, f)

@@ -8,11 +8,15 @@
 !!   (ictus_solver_force_element). What laws with history and finite strain need.
 !!
 !! `*DYNAMIC, EXPLICIT, INTERNAL FORCE=AUTO|ASSEMBLED|ELEMENT` chooses; AUTO takes ASSEMBLED
-!! where every law has a constant tangent. ELEMENT on a linear model is the check that both
-!! agree (to round-off).
+!! where every law has a constant tangent, in 3D only while K's 3 x 3 blocks take at most half
+!! the memory available (ictus_solver_assemble). ELEMENT on a linear model is the check that
+!! both agree (to round-off).
 module ictus_solver_internal_force
   use ictus_core_kinds, only: dp
-  use ictus_solver_model, only: model_t, FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT
+  use ictus_core_strings, only: str
+  use ictus_solver_model, only: model_t, model_force_kind, FORCE_AUTO, FORCE_ASSEMBLED, &
+      FORCE_ELEMENT
+  use ictus_solver_assemble, only: operators_t
   use ictus_solver_domain, only: domain_t
   use ictus_solver_sparse, only: bsr_t
   use ictus_solver_force_assembled, only: assembled_force_t, assembled_init, assembled_apply, &
@@ -24,8 +28,7 @@ module ictus_solver_internal_force
   private
   public :: force_op_t, force_op_init, force_apply, force_energy, force_kind_name, &
       force_choice, force_hist_shape, force_dissipation, force_dissipates, force_stable, &
-      FORCE_ASSEMBLED, &
-      FORCE_ELEMENT
+      force_choice_note, FORCE_ASSEMBLED, FORCE_ELEMENT
 
   type :: force_op_t
     !> FORCE_ASSEMBLED or FORCE_ELEMENT.
@@ -41,23 +44,43 @@ contains
 
   !> The implementation a model gets: the deck's choice, or for FORCE_AUTO the assembled K
   !! where every material law is linear, the strain small and no element shares its mean
-  !! dilatation. A 3D model takes the element loop (its stiffness is not assembled: the
-  !! assembled K has 2 x 2 blocks).
-  integer function force_choice(model)
+  !! dilatation (`model_force_kind`). With `k` (the assembled operators' stiffness), a 3D model
+  !! whose K was not assembled (AUTO short of memory: ictus_solver_assemble) takes the element
+  !! loop.
+  integer function force_choice(model, k)
     type(model_t), intent(in) :: model
-    integer :: m
-    force_choice = model%force_kind
-    if (force_choice /= FORCE_AUTO) return
-    force_choice = FORCE_ASSEMBLED
-    if (model%nlgeom) force_choice = FORCE_ELEMENT
-    if (allocated(model%mean_dil)) then
-      if (any(model%mean_dil)) force_choice = FORCE_ELEMENT
-    end if
-    do m = 1, model%nmat
-      if (.not. model%materials(m)%law%linear) force_choice = FORCE_ELEMENT
-    end do
-    if (model%ndm == 3) force_choice = FORCE_ELEMENT
+    type(bsr_t), intent(in), optional :: k
+    force_choice = model_force_kind(model)
+    if (.not. present(k) .or. force_choice /= FORCE_ASSEMBLED) return
+    if (.not. allocated(k%val)) force_choice = FORCE_ELEMENT
   end function force_choice
+
+  !> Why a 3D model under INTERNAL FORCE=AUTO got the operator `kind`, for the log ('' in 2D,
+  !! where it follows the laws alone, and where the deck chose): the bytes of K's 3 x 3 blocks
+  !! against the memory available.
+  function force_choice_note(kind, model, ops) result(s)
+    integer, intent(in) :: kind
+    type(model_t), intent(in) :: model
+    type(operators_t), intent(in) :: ops
+    character(len=:), allocatable :: s
+    character(len=:), allocatable :: avail
+    s = ''
+    if (model%ndm /= 3 .or. model%force_kind /= FORCE_AUTO) return
+    if (model_force_kind(model) /= FORCE_ASSEMBLED) then
+      s = 'AUTO: the element loop (a law with history or finite strain)'
+      return
+    end if
+    avail = 'an unknown amount of memory available'
+    if (ops%k_avail >= 0.0_dp) avail = str(ops%k_avail/1.0e6_dp, 4)//' MB available'
+    if (kind == FORCE_ASSEMBLED) then
+      s = 'AUTO: the assembled K, whose 3 x 3 blocks take '//str(ops%k_bytes/1.0e6_dp, 4)// &
+          ' MB (at most half of the '//avail//' on every node)'
+    else
+      s = 'AUTO: the element loop, as the assembled K would take '// &
+          str(ops%k_bytes/1.0e6_dp, 4)//' MB, more than half of the '//avail// &
+          ' (per node, with its ranks)'
+    end if
+  end function force_choice_note
 
   !> Sets up the operator of `kind` (FORCE_ASSEMBLED or FORCE_ELEMENT) for this rank's part;
   !! k: the assembled stiffness (kept alive by the caller; the assembled operator points to
@@ -78,7 +101,9 @@ contains
     if (kind == FORCE_ELEMENT) then
       call element_loop_init(fop%el, model, dom, ierr)
     else
-      call assembled_init(fop%asm, k, ordered)
+      ! the column-order product of a consistent mass has 2 x 2 blocks; a 3D K takes its one
+      ! product, whose bits do not depend on the partition either
+      call assembled_init(fop%asm, k, ordered .and. size(k%val, 1) == 2)
     end if
   end subroutine force_op_init
 
@@ -160,7 +185,10 @@ contains
       write(mb, '(f0.1)') element_loop_bytes(fop%el)/1.0e6_dp
       s = 'element loop over the material laws ('//trim(mb)//' MB of stored geometry)'
     else
-      s = 'assembled stiffness, f = K u'
+      write(mb, '(f0.1)') (8.0_dp*real(size(fop%asm%k%val), dp) + &
+          4.0_dp*real(size(fop%asm%k%g%col), dp))/1.0e6_dp
+      s = 'assembled stiffness, f = K u ('//str(size(fop%asm%k%val, 1))//' x '// &
+          str(size(fop%asm%k%val, 1))//' blocks, '//trim(mb)//' MB on this rank)'
     end if
   end function force_kind_name
 end module ictus_solver_internal_force

@@ -15,7 +15,8 @@
 !!    marked `keep = .false.` are replaced by the identity, which is how fixed dofs get a zero
 !!    solution without a second pattern.
 !! 3. `chol_solve`: forward and backward substitution, supernode by supernode, reading the
-!!    factor once each, for one or two right-hand sides stored as x(2, n) in pivot order.
+!!    factor once each, for the two or three right-hand sides stored as x(nd, n) in pivot
+!!    order (the displacement components, each with its factor).
 !!
 !! Every stage is sequential and has a fixed operation order, so a factor and a solve are the
 !! same bits wherever they run; the caller decides which rank runs them (see
@@ -579,36 +580,43 @@ contains
     end do
   end subroutine dense_cholesky
 
-  !> Solves L L^T x = b in place for x(2, n) in pivot order: components 1 and 2 with factor
-  !! fac(1) and fac(2) (one sweep for both when they are the same factor). xl(max_rows, 2)
-  !! is work space.
+  !> Solves L L^T x = b in place for x(nd, n) in pivot order (nd = 2 or 3 components):
+  !! component c with factor fac(c), one sweep for each run of consecutive components that
+  !! share a factor (the same bits as one sweep per component). With a tail (2 components
+  !! only), the shared factor and one tail factor per component. xl(max_rows, nd) is work
+  !! space.
   subroutine chol_solve(ch, fac, x, xl)
     type(chol_t), intent(in) :: ch
-    integer, intent(in) :: fac(2)
+    integer, intent(in) :: fac(:)
     real(dp), intent(inout), contiguous :: x(:,:), xl(:,:)
-    integer :: s, k, ld
+    integer :: s, k, ld, nd, c1, c2
     s = ch%nsup
     k = ch%ntail
     ld = size(xl, 1)
+    nd = size(x, 1)
     if (k > 0) then
       ! shared factor up to the tail, one tail factor per component
-      call substitute(ch, ch%val(1, 1), x, xl, ld, 1, 2, s - 1, .false.)
+      call substitute(ch, ch%val(1, 1), x, xl, ld, nd, 1, 2, s - 1, .false.)
       xl(1:k, 1) = x(1, ch%n - k + 1:ch%n)*ch%tail_keep(:, 1)
       xl(1:k, 2) = x(2, ch%n - k + 1:ch%n)*ch%tail_keep(:, 2)
       call tail_solve(k, ch%val(ch%val_ptr(s) + 1, 1), xl(1:k, 1))
       call tail_solve(k, ch%tail2, xl(1:k, 2))
       x(1, ch%n - k + 1:ch%n) = xl(1:k, 1)
       x(2, ch%n - k + 1:ch%n) = xl(1:k, 2)
-      call substitute(ch, ch%val(1, 1), x, xl, ld, 1, 2, s - 1, .true.)
-    else if (fac(1) == fac(2)) then
-      call substitute(ch, ch%val(1, fac(1)), x, xl, ld, 1, 2, s, .false.)
-      call substitute(ch, ch%val(1, fac(1)), x, xl, ld, 1, 2, s, .true.)
-    else
-      call substitute(ch, ch%val(1, fac(1)), x, xl, ld, 1, 1, s, .false.)
-      call substitute(ch, ch%val(1, fac(1)), x, xl, ld, 1, 1, s, .true.)
-      call substitute(ch, ch%val(1, fac(2)), x, xl, ld, 2, 2, s, .false.)
-      call substitute(ch, ch%val(1, fac(2)), x, xl, ld, 2, 2, s, .true.)
+      call substitute(ch, ch%val(1, 1), x, xl, ld, nd, 1, 2, s - 1, .true.)
+      return
     end if
+    c1 = 1
+    do while (c1 <= nd)
+      c2 = c1
+      do while (c2 < nd)
+        if (fac(c2 + 1) /= fac(c1)) exit
+        c2 = c2 + 1
+      end do
+      call substitute(ch, ch%val(1, fac(c1)), x, xl, ld, nd, c1, c2, s, .false.)
+      call substitute(ch, ch%val(1, fac(c1)), x, xl, ld, nd, c1, c2, s, .true.)
+      c1 = c2 + 1
+    end do
   end subroutine chol_solve
 
   !> L L^T x = b in place for a dense lower factor l(n, n) (the tail).
@@ -642,18 +650,18 @@ contains
   !! - backward: each column's dot product with the rows below runs in four lanes (a fixed
   !!   order, so the same bits on any machine that rounds IEEE doubles) that the compiler
   !!   maps to one vector register; only the supernode's own nc rows change.
-  subroutine substitute(ch, val, x, xl, ld, c1, c2, last, transposed)
+  subroutine substitute(ch, val, x, xl, ld, nd, c1, c2, last, transposed)
     type(chol_t), intent(in) :: ch
     real(dp), intent(in) :: val(*)
-    integer, intent(in) :: ld, c1, c2, last
-    real(dp), intent(inout) :: x(2, *), xl(ld, 2)
+    integer, intent(in) :: ld, nd, c1, c2, last
+    real(dp), intent(inout) :: x(nd, *), xl(ld, nd)
     logical, intent(in) :: transposed
     integer(i8) :: r0, o
     integer :: k, s, nc, nr, jc, ii, c
     real(dp) :: y, t(4)
     do k = 1, last
       s = merge(last + 1 - k, k, transposed)
-      call gather_rows(ch, s, x, xl, ld, c1, c2, nc, nr, r0)
+      call gather_rows(ch, s, x, xl, ld, nd, c1, c2, nc, nr, r0)
       if (.not. transposed) then
         o = ch%val_ptr(s)
         do jc = 1, nc
@@ -666,7 +674,7 @@ contains
           end do
           o = o + nr
         end do
-        call scatter_rows(ch, r0, nr, x, xl, ld, c1, c2)
+        call scatter_rows(ch, r0, nr, x, xl, ld, nd, c1, c2)
       else
         do jc = nc, 1, -1
           o = ch%val_ptr(s) + int(jc - 1, i8)*nr
@@ -684,18 +692,18 @@ contains
             xl(jc, c) = (xl(jc, c) - ((t(1) + t(2)) + (t(3) + t(4))))/val(o + jc)
           end do
         end do
-        call scatter_rows(ch, r0, nc, x, xl, ld, c1, c2)
+        call scatter_rows(ch, r0, nc, x, xl, ld, nd, c1, c2)
       end if
     end do
   end subroutine substitute
 
   !> Supernode s of the solves: its number of columns nc and rows nr, the offset r0 of its row
   !! list, and its rows of x (components c1..c2) gathered into xl(1:nr, c).
-  subroutine gather_rows(ch, s, x, xl, ld, c1, c2, nc, nr, r0)
+  subroutine gather_rows(ch, s, x, xl, ld, nd, c1, c2, nc, nr, r0)
     type(chol_t), intent(in) :: ch
-    integer, intent(in) :: s, ld, c1, c2
-    real(dp), intent(in) :: x(2, *)
-    real(dp), intent(inout) :: xl(ld, 2)
+    integer, intent(in) :: s, ld, nd, c1, c2
+    real(dp), intent(in) :: x(nd, *)
+    real(dp), intent(inout) :: xl(ld, nd)
     integer, intent(out) :: nc, nr
     integer(i8), intent(out) :: r0
     integer :: ii
@@ -708,12 +716,12 @@ contains
   end subroutine gather_rows
 
   !> The first n gathered rows xl(1:n, c) back into x (components c1..c2).
-  subroutine scatter_rows(ch, r0, n, x, xl, ld, c1, c2)
+  subroutine scatter_rows(ch, r0, n, x, xl, ld, nd, c1, c2)
     type(chol_t), intent(in) :: ch
     integer(i8), intent(in) :: r0
-    integer, intent(in) :: n, ld, c1, c2
-    real(dp), intent(inout) :: x(2, *)
-    real(dp), intent(in) :: xl(ld, 2)
+    integer, intent(in) :: n, ld, nd, c1, c2
+    real(dp), intent(inout) :: x(nd, *)
+    real(dp), intent(in) :: xl(ld, nd)
     integer :: ii
     do ii = 1, n
       x(c1:c2, ch%rix(r0 + ii)) = xl(ii, c1:c2)

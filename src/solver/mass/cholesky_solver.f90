@@ -26,12 +26,13 @@ module ictus_solver_mass_cholesky
   !! each component gets a factor of its own.
   integer, parameter :: max_tail = 4000
 
-  !> The factor(s) of the whole M and the factor of each component (fac), the pivot of every
-  !! gathered node (gpiv) and of every owned node (opiv), the solve's work (max_rows, 2) and
-  !! the gathered loads and solution (g).
+  !> The factor(s) of the whole M and the factor of each component (fac, one entry per
+  !! component: 2 in 2D, 3 in 3D), the pivot of every gathered node (gpiv) and of every owned
+  !! node (opiv), the solve's work (max_rows, components) and the gathered loads and solution
+  !! (g).
   type, extends(consistent_solver_t) :: cholesky_solver_t
     type(chol_t) :: chol
-    integer :: fac(2) = 1
+    integer, allocatable :: fac(:)
     integer, allocatable :: gpiv(:), opiv(:)
     real(dp), allocatable :: xl(:,:)
     type(gathered_t) :: g
@@ -43,7 +44,7 @@ module ictus_solver_mass_cholesky
 contains
 
   !> The Cholesky solver of the consistent mass m (this rank's rows) with the dofs
-  !! `fixed(2, nlocal)`; gm is the gathered mass, made here unless another solver's set-up
+  !! `fixed(nd, nlocal)` (nd = 2 or 3 components); gm is the gathered mass, made here unless another solver's set-up
   !! made it. err = 1 with `msg` when the factor cannot be made (`cholesky_setup`).
   subroutine cholesky_init(s, c, dom, m, fixed, gm, err, msg)
     class(mass_solver_t), allocatable, intent(out) :: s
@@ -64,8 +65,9 @@ contains
 
   !> The Cholesky factor of the whole consistent mass gm on every rank, ordered by METIS
   !! nested dissection and factorised. The components share one factor when their kept
-  !! dofs are the same, else get one each. err = 1 with `msg` when METIS fails, M is not
-  !! positive definite or memory runs out.
+  !! dofs are the same, else get one per set of kept dofs (`factor_of_component`); in 2D
+  !! two sets that differ on at most max_tail nodes share the factor up to a dense tail.
+  !! err = 1 with `msg` when METIS fails, M is not positive definite or memory runs out.
   subroutine cholesky_setup(s, c, dom, gm, err, msg)
     type(cholesky_solver_t), intent(inout) :: s
     type(mass_core_t), intent(in) :: c
@@ -74,7 +76,7 @@ contains
     integer, intent(out) :: err
     character(len=:), allocatable, intent(out) :: msg
     integer, allocatable :: order(:), rp_aug(:), col_aug(:)
-    integer :: nn, ng, i, q, c2, ntail
+    integer :: nn, ng, i, q, c2, ntail, nd, nfac, f
     integer(i8) :: stored, need, avail
     real(dp) :: t0, mem(2)
     associate (row_ptr => gm%row_ptr, col => gm%col, val => gm%val, keep => gm%keep)
@@ -84,13 +86,16 @@ contains
       t0 = wall_time()
       ! dofs kept in one component only (e.g. a roller edge) are eliminated last, as one dense
       ! tail: the factor is shared up to there (ictus_solver_cholesky, chol_t%ntail)
-      ntail = count(keep(:, 1) .neqv. keep(:, 2))
-      s%fac = [1, 1]
-      if (ntail > max_tail) s%fac = [1, 2]
+      nd = size(keep, 2)
+      ntail = 0
+      if (nd == 2) ntail = count(keep(:, 1) .neqv. keep(:, 2))
+      s%fac = factor_of_component(keep)
+      if (ntail > 0 .and. ntail <= max_tail) s%fac = 1
+      nfac = maxval(s%fac)
       if (ntail > max_tail .or. ntail == 0) then
         allocate(order(ng))
         call nested_dissection(ng, row_ptr, col, order, err)
-        if (err == 0) call chol_analyse(s%chol, ng, row_ptr, col, order, s%fac(2), err)
+        if (err == 0) call chol_analyse(s%chol, ng, row_ptr, col, order, nfac, err)
       else
         call tail_order(ng, row_ptr, col, keep(:, 1) .neqv. keep(:, 2), order, rp_aug, col_aug, &
             err)
@@ -103,7 +108,7 @@ contains
       end if
       ! memory: the factor, the update stack and the largest update matrix, on every rank of
       ! the node; refused before allocating when it does not fit (the same decision on all ranks)
-      need = 8*(s%chol%val_ptr(s%chol%nsup + 1)*s%fac(2) + s%chol%stack_size + &
+      need = 8*(s%chol%val_ptr(s%chol%nsup + 1)*nfac + s%chol%stack_size + &
           s%chol%w_size + int(s%chol%ntail, i8)**2)
       mem(1) = real(need, dp)*env_node_size()
       mem(2) = -huge(1.0_dp)
@@ -121,14 +126,15 @@ contains
       if (ntail > 0 .and. ntail <= max_tail) then
         call chol_factor(s%chol, row_ptr, col, val, keep(:, 1) .or. keep(:, 2), 1, err, keep)
       else
-        do c2 = 1, s%fac(2)
-          call chol_factor(s%chol, row_ptr, col, val, keep(:, c2), c2, err)
+        do f = 1, nfac
+          c2 = findloc(s%fac, f, 1)
+          call chol_factor(s%chol, row_ptr, col, val, keep(:, c2), f, err)
           if (err /= 0) exit
         end do
       end if
       if (err == -1) then
         msg = 'not enough memory for the Cholesky factor of the mass matrix ('// &
-            str(real(s%chol%nnz, dp)*8.0e-9_dp*s%fac(2), 3)//' GB per rank); use '// &
+            str(real(s%chol%nnz, dp)*8.0e-9_dp*nfac, 3)//' GB per rank); use '// &
             '*DYNAMIC, EXPLICIT, MASS SOLVER=CG'
         err = 1
         return
@@ -146,14 +152,14 @@ contains
         s%opiv(i) = s%chol%inv(dom%halo%gid(i))
       end do
       call gathered_setup(s%g, c, dom, gm%cnt)
-      allocate(s%xl(s%chol%max_rows, 2))
+      allocate(s%xl(s%chol%max_rows, nd))
       stored = size(s%chol%val, kind=i8)
       if (allocated(s%chol%tail2)) stored = stored + size(s%chol%tail2, kind=i8)
       call log_info('consistent mass: Cholesky factor of '//str(ng)//' rows in '// &
           str(s%chol%nsup)//' supernodes, '//str(s%chol%nnz)//' non-zeros, '// &
-          str(s%chol%ntail)//' rows in the dense tail, '//str(s%fac(2))//' factor(s), '// &
-          str(real(stored, dp)*8.0e-6_dp, 4)//' MB stored on every rank, '// &
-          str(s%chol%flops*s%fac(2), 3)//' flops, '//str(wall_time() - t0, 3)//' s')
+          str(s%chol%ntail)//' rows in the dense tail, '//str(nfac)//' factor(s) for '// &
+          str(nd)//' components, '//str(real(stored, dp)*8.0e-6_dp, 4)//' MB stored on '// &
+          'every rank, '//str(s%chol%flops*nfac, 3)//' flops, '//str(wall_time() - t0, 3)//' s')
     end associate
   end subroutine cholesky_setup
 
@@ -165,18 +171,35 @@ contains
     real(dp), intent(in) :: f(:,:)
     real(dp), intent(inout) :: a(:,:)
     integer, intent(out) :: ierr
-    integer :: q, i
+    integer :: q, i, nd
     ierr = 0
     call gathered_loads(self%g, c, f)
+    nd = size(self%fac)
     do q = 1, c%nglobal
-      self%g%x(1, self%gpiv(q)) = self%g%fall(2*q - 1)
-      self%g%x(2, self%gpiv(q)) = self%g%fall(2*q)
+      self%g%x(:, self%gpiv(q)) = self%g%fall(nd*(q - 1) + 1:nd*q)
     end do
     call chol_solve(self%chol, self%fac, self%g%x, self%xl)
     do i = 1, c%nn
       a(:, i) = self%g%x(:, self%opiv(i))
     end do
   end subroutine cholesky_solve
+
+  !> The factor of each component (columns of keep: the kept dofs of the gathered nodes):
+  !! components with the same kept dofs share one, numbered 1, 2, ... in component order.
+  pure function factor_of_component(keep) result(fac)
+    logical, intent(in) :: keep(:,:)
+    integer :: fac(size(keep, 2))
+    integer :: c, b
+    do c = 1, size(keep, 2)
+      fac(c) = maxval([0, fac(1:c - 1)]) + 1
+      do b = 1, c - 1
+        if (all(keep(:, b) .eqv. keep(:, c))) then
+          fac(c) = fac(b)
+          exit
+        end if
+      end do
+    end do
+  end function factor_of_component
 
   function cholesky_report(self, c) result(line)
     class(cholesky_solver_t), intent(in) :: self

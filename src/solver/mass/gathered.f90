@@ -13,8 +13,8 @@ module ictus_solver_mass_gathered
   public :: gathered_mass_t, gathered_t, gather_mass, gathered_setup, gathered_loads
 
   !> The whole consistent mass in the order of the global node numbers (made once by
-  !! `gather_mass`, `ready` then): row_ptr(ng + 1), col (global ids, sorted), val, keep(ng, 2)
-  !! the dofs to solve (free, and the node has mass: the CG's rule), cnt the owned nodes of
+  !! `gather_mass`, `ready` then): row_ptr(ng + 1), col (global ids, sorted), val, keep(ng, nd)
+  !! the dofs of the nd components (2 or 3) to solve (free, and the node has mass: the CG's rule), cnt the owned nodes of
   !! every rank and gid the global id of every gathered node.
   type :: gathered_mass_t
     logical :: ready = .false.
@@ -23,9 +23,9 @@ module ictus_solver_mass_gathered
     logical, allocatable :: keep(:,:)
   end type gathered_mass_t
 
-  !> The buffers of the solves on gathered loads: the sizes of every rank's part (2 x its
-  !! owned nodes) and their offsets, this rank's offset in nodes, the send buffer (2 nn), the
-  !! gathered f (2 nglobal) and the solution x (2, nglobal).
+  !> The buffers of the solves on gathered loads: the sizes of every rank's part (nd x its
+  !! owned nodes, nd components) and their offsets, this rank's offset in nodes, the send
+  !! buffer (nd nn), the gathered f (nd nglobal) and the solution x (nd, nglobal).
   type :: gathered_t
     integer, allocatable :: counts(:), displs(:)
     integer :: offset = 0
@@ -43,7 +43,7 @@ contains
     logical, intent(in) :: fixed(:,:)
     integer, allocatable :: ncnt(:), len_all(:), col_all(:), keep_all(:), keep_loc(:)
     real(dp), allocatable :: val_all(:), d(:)
-    integer :: nn, ng, np, i, k, p, q, c2, g, nnz
+    integer :: nn, ng, np, i, k, p, q, c2, g, nnz, nd
     if (gm%ready) return
     gm%ready = .true.
     nn = c%nn
@@ -61,15 +61,16 @@ contains
     allocate(col_all(sum(ncnt)), val_all(sum(ncnt)))
     call allgatherv_int(dom%halo%gid(m%g%col(1:nnz)), ncnt, col_all)
     call allgatherv_real(m%val(1:nnz), ncnt, val_all)
-    allocate(keep_loc(2*nn), keep_all(2*ng))
+    nd = size(fixed, 1)
+    allocate(keep_loc(nd*nn), keep_all(nd*ng))
     do i = 1, nn
-      do c2 = 1, 2
-        keep_loc(2*(i - 1) + c2) = merge(1, 0, .not. fixed(c2, i) .and. d(i) > 0.0_dp)
+      do c2 = 1, nd
+        keep_loc(nd*(i - 1) + c2) = merge(1, 0, .not. fixed(c2, i) .and. d(i) > 0.0_dp)
       end do
     end do
-    call allgatherv_int(keep_loc, 2*gm%cnt, keep_all)
+    call allgatherv_int(keep_loc, nd*gm%cnt, keep_all)
     ! the global matrix in the order of the global node numbers
-    allocate(gm%row_ptr(ng + 1), gm%col(size(col_all)), gm%val(size(col_all)), gm%keep(ng, 2))
+    allocate(gm%row_ptr(ng + 1), gm%col(size(col_all)), gm%val(size(col_all)), gm%keep(ng, nd))
     associate (row_ptr => gm%row_ptr, col => gm%col, val => gm%val, keep => gm%keep, &
         gid => gm%gid)
       row_ptr(1) = 1
@@ -85,8 +86,7 @@ contains
         p = row_ptr(g)
         col(p:p + len_all(q) - 1) = col_all(k:k + len_all(q) - 1)
         val(p:p + len_all(q) - 1) = val_all(k:k + len_all(q) - 1)
-        keep(g, 1) = keep_all(2*q - 1) == 1
-        keep(g, 2) = keep_all(2*q) == 1
+        keep(g, :) = keep_all(nd*(q - 1) + 1:nd*q) == 1
         k = k + len_all(q)
       end do
     end associate
@@ -98,12 +98,13 @@ contains
     type(mass_core_t), intent(in) :: c
     type(domain_t), intent(in) :: dom
     integer, intent(in) :: cnt(:)
-    integer :: q
-    g%counts = 2*cnt
+    integer :: q, nd
+    nd = size(c%free, 1)
+    g%counts = nd*cnt
     g%displs = [0, (sum(g%counts(1:q)), q = 1, size(cnt) - 1)]
-    g%offset = g%displs(dom%rank + 1)/2
-    call alloc_stream(g%x, 2, c%nglobal, 0.0_dp)
-    allocate(g%fsend(2*c%nn), g%fall(2*c%nglobal))
+    g%offset = g%displs(dom%rank + 1)/nd
+    call alloc_stream(g%x, nd, c%nglobal, 0.0_dp)
+    allocate(g%fsend(nd*c%nn), g%fall(nd*c%nglobal))
   end subroutine gathered_setup
 
   !> g%fall <- f on the free dofs of every rank's owned nodes, in rank order (allocates
@@ -112,10 +113,10 @@ contains
     type(gathered_t), intent(inout) :: g
     type(mass_core_t), intent(in) :: c
     real(dp), intent(in) :: f(:,:)
-    integer :: i
+    integer :: i, nd
+    nd = size(c%free, 1)
     do i = 1, c%nn
-      g%fsend(2*i - 1) = f(1, i)*c%free(1, i)
-      g%fsend(2*i) = f(2, i)*c%free(2, i)
+      g%fsend(nd*(i - 1) + 1:nd*i) = f(1:nd, i)*c%free(1:nd, i)
     end do
     call allgatherv_real(g%fsend, g%counts, g%fall, g%displs)
   end subroutine gathered_loads

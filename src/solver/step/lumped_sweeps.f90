@@ -82,7 +82,8 @@ contains
     ns = merge(SWEEP_AUTO_STEPS, nstage, nstage == 0)
     ! on every rank alike, one that owns no node included (its plan is empty): the exchanges
     ! between steps and the tuning's sums must match
-    ls%on = ns > 1 .and. .not. mop%consistent
+    ! (2 x 2 blocks only: a 3D K steps one step at a time, with the fused lumped step)
+    ls%on = ns > 1 .and. .not. mop%consistent .and. size(k%val, 1) == 2
     ls%kept = ls%on
     ls%tuning = ls%on .and. nstage == 0
     ls%has_wide = .false.

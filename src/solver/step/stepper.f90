@@ -23,7 +23,7 @@ module ictus_solver_stepper
   use ictus_solver_assemble, only: operators_t
   use ictus_solver_mass_operator, only: mass_op_t
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_choice, &
-      force_kind_name, force_stable, FORCE_ASSEMBLED, FORCE_ELEMENT
+      force_kind_name, force_stable, force_choice_note, FORCE_ASSEMBLED, FORCE_ELEMENT
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish, &
       between_steps_t, state_kinetic
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window
@@ -100,6 +100,7 @@ contains
     integer, intent(out) :: ierr
     real(dp), allocatable :: alpha(:)
     type(loads_t) :: ld
+    character(len=:), allocatable :: note
     stp%model => model
     stp%dom => dom
     stp%ops => ops
@@ -108,9 +109,12 @@ contains
     stp%cs => cs
     stp%failure = ''
     allocate(stp%was_active(contact%npairs), source=.false.)
-    call force_op_init(stp%fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
+    call force_op_init(stp%fop, force_choice(model, ops%k), model, dom, ops%k, mop%consistent, &
+        ierr)
     if (ierr /= 0) return
-    call log_info('internal force: '//force_kind_name(stp%fop))
+    note = force_choice_note(stp%fop%kind, model, ops)
+    if (len(note) > 0) note = '; '//note
+    call log_info('internal force: '//force_kind_name(stp%fop)//note)
     stp%dt0 = dt
     stp%dt_logged = dt
     stp%t_end = t_end
