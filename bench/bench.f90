@@ -43,12 +43,12 @@ program ictus_bench
   use ictus_solver_tensor_layout, only: tensor_layout_t, tensor_layout
   use ictus_solver_domain, only: domain_t, domain_init
   use ictus_solver_assemble, only: operators_t, assemble_operators
-  use ictus_solver_sparse, only: bsr_matvec
+  use ictus_solver_sparse, only: bsr_product
   use ictus_solver_mass_operator, only: mass_op_t, mass_op_init, mass_solve
   use ictus_solver_explicit, only: state_t, state_init, step_predict, step_finish
   use ictus_solver_internal_force, only: force_op_t, force_op_init, force_apply, force_choice, &
       FORCE_ELEMENT, FORCE_ASSEMBLED
-  use ictus_solver_force_element, only: element_loop_geometry
+  use ictus_solver_force_element, only: element_force_t, element_loop_init, element_loop_geometry
   use ictus_solver_lumped_sweeps, only: lumped_sweeps_t, sweeps_plan, sweeps_window, sweeps_run
   use ictus_solver_contact_step, only: contact_step_t, contact_step_init, contact_correct
   use ictus_solver_timestep, only: omega_max_power
@@ -70,11 +70,13 @@ program ictus_bench
   type(state_t), target :: s
   type(bench_hook_t) :: between
   type(force_op_t) :: fop, fop_el
+  type(element_force_t) :: kel
   type(lumped_sweeps_t) :: ls
   real(dp), allocatable :: hist_el(:,:,:)
   character(len=:), allocatable :: path, arg
   integer, allocatable :: bad(:)
-  integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0, nchunk, k
+  integer :: nsteps, stream_mb, i, nbad, ierr, n, nrep, r, it0, ns0, nchunk, k, nd
+  logical :: has_k
   real(dp) :: t_kmv, t_step, t_mass, t_contact, t_update, t_single, t_sweep, t_kread, t_kstep, t_elem, t_geom, tg0, dt, &
       stream_bw, bytes_kmv, mass_iter, sink
   logical, allocatable :: sync(:)
@@ -90,6 +92,7 @@ program ictus_bench
   call env_init()
   nsteps = 50
   nrep = 3
+  sink = 0.0_dp
   stream_mb = 768
   with_elem = .true.
   i = 0
@@ -132,16 +135,25 @@ program ictus_bench
   call mass_op_init(mop, dom, ops%consistent, ops%m, ops%m_diag, model%fixed(:, dom%halo%gid), &
       model%mass_tol, model%mass_solver, passes=model%mass_passes, layout=layout)
   dt = model%dt
+  ! a 3D model without the assembled K (INTERNAL FORCE=ELEMENT, or AUTO short of memory):
+  ! no K u to time, omega_max from the element loop (as the driver's estimate_omega)
+  has_k = allocated(ops%k%val)
+  nd = model%ndm
   if (.not. dt > 0.0_dp) then
     ! automatic step as in a run: 0.9 (the default safety) of 2/omega_max
-    call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-6_dp, 1000)
+    if (has_k) then
+      call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-6_dp, 1000)
+    else
+      call element_loop_init(kel, model, dom, ierr)
+      call omega_max_power(ops%k, mop, dom, omega, iters, 1.0e-6_dp, 1000, kel)
+    end if
     dt = model%safety*2.0_dp/omega
   end if
   if (contact%npairs > 0) call contact_step_init(cs, contact, model%x0, dom)
   ! the nodal damping coefficients of *DAMPING, as a run takes them (driver)
   allocate(alpha(dom%nlocal), source=0.0_dp)
   where (ops%m_pos > 0.0_dp) alpha = ops%c_diag/ops%m_pos
-  call force_op_init(fop, force_choice(model), model, dom, ops%k, mop%consistent, ierr)
+  call force_op_init(fop, force_choice(model, ops%k), model, dom, ops%k, mop%consistent, ierr)
   ! the element-loop internal force of the same model, timed beside K u
   if (with_elem) then
     call force_op_init(fop_el, FORCE_ELEMENT, model, dom, ops%k, mop%consistent, ierr)
@@ -162,9 +174,10 @@ program ictus_bench
   do i = 1, n
     s%v(1, i) = s%v(1, i) + rough*sin(12.9898_dp*real(dom%halo%gid(i), dp) + 1.0_dp)
     s%v(2, i) = s%v(2, i) + rough*sin(78.233_dp*real(dom%halo%gid(i), dp) + 2.0_dp)
+    if (nd == 3) s%v(3, i) = s%v(3, i) + rough*sin(37.719_dp*real(dom%halo%gid(i), dp) + 3.0_dp)
   end do
   s%v(:, 1:n) = s%v(:, 1:n)*mop%free(:, 1:n)
-  allocate(u_save(2, dom%nlocal), v_save(2, dom%nlocal), a_save(2, dom%nlocal))
+  allocate(u_save(nd, dom%nlocal), v_save(nd, dom%nlocal), a_save(nd, dom%nlocal))
   ! sweeps of several steps over K, planned as a run plans them (contact nodes step singly)
   allocate(sync(n), source=.false.)
   if (contact%npairs > 0) then
@@ -216,13 +229,15 @@ program ictus_bench
   ! the read's sums must be used, or the compiler may drop the pass
   if (sink /= sink) write(output_unit, '(a)') 'ictus-bench: K holds NaN'
   stream_bw = median(stream)
-  ! bytes the stiffness product must move once: blocks (4 reals + a column index), row
-  ! pointers, u read, f written
-  nnzb = size(ops%k%g%col, kind=i8)
+  ! bytes the stiffness product must move once: blocks (nd^2 reals + a column index), row
+  ! pointers, u read, f written (0 without an assembled K)
+  nnzb = 0
+  if (has_k) nnzb = size(ops%k%g%col, kind=i8)
   nrows = int(n, i8)
   call allreduce_sum(nnzb)
   call allreduce_sum(nrows)
-  bytes_kmv = real(nnzb, dp)*(4*8 + 4) + real(nrows, dp)*(4 + 2*8 + 2*8)
+  bytes_kmv = real(nnzb, dp)*(nd*nd*8 + 4) + real(nrows, dp)*(4 + 2*nd*8)
+  if (.not. has_k) bytes_kmv = 0.0_dp
   ncp = 0
   if (contact%npairs > 0) then
     do i = 1, contact%npairs
@@ -230,9 +245,10 @@ program ictus_bench
     end do
   end if
   if (env_is_root()) write(output_unit, &
-      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
+      '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,l1,6(a,es11.5),a,i0,4(a,es11.5),2(a,i0),3(a,es11.5),' // &
       '2(a,i0),5(a,es11.5))') &
-      'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' steps=', nsteps, &
+      'BENCH ranks=', env_size(), ' nel=', model%nel, ' nodes=', model%nn, ' ndm=', nd, &
+      ' steps=', nsteps, &
       ' repeat=', nrep, ' consistent=', ops%consistent, ' t_kmv=', t_kmv, ' t_step=', t_step, &
       ' t_mass=', t_mass, ' t_contact=', t_contact, ' t_update=', t_update, &
       ' bytes_kmv=', bytes_kmv, ' contact_points=', ncp, ' stream=', stream_bw, &
@@ -268,8 +284,8 @@ contains
     do ic = 1, nchunk
       call barrier()
       t0 = wall_time()
-      do k = 1, m
-        call bsr_matvec(n, ops%k%g%row_ptr, ops%k%g%col, ops%k%val, s%u, s%f)
+      do k = 1, merge(m, 0, has_k)
+        call bsr_product(ops%k, n, s%u, s%f)
       end do
       t(1) = t(1) + (wall_time() - t0)
       call barrier()
@@ -292,8 +308,9 @@ contains
       end if
       call barrier()
       t0 = wall_time()
-      do k = 1, m
-        call read_k(size(ops%k%g%col), n, ops%k%val, ops%k%g%col, ops%k%g%row_ptr, sink)
+      do k = 1, merge(m, 0, has_k)
+        call read_k(size(ops%k%g%col), n, size(ops%k%val), ops%k%val, ops%k%g%col, &
+            ops%k%g%row_ptr, sink)
       end do
       t(8) = t(8) + (wall_time() - t0)
       if (fop%asm%ordered) then
@@ -321,7 +338,7 @@ contains
     a_save = s%a
     ! the solve of the next step: f = -K u_n+1, warm-started from the last acceleration (the
     ! copy of the start value is timed with it; it is one pass over a vector)
-    call bsr_matvec(n, ops%k%g%row_ptr, ops%k%g%col, ops%k%val, s%u, s%f)
+    call force_apply(fop, s%u, s%f, s%hist)
     s%f(:, 1:n) = -s%f(:, 1:n)
     call barrier()
     t0 = wall_time()
@@ -376,13 +393,13 @@ contains
     end do
   end subroutine single_steps
 
-  !> One pass that only reads what K u reads of K: the nb blocks (4 reals each), their
+  !> One pass that only reads what K u reads of K: the nb blocks (nv reals in all), their
   !! column indices and the n + 1 row pointers, summed into `total` (8 lanes for the reals,
   !! so that the pass is bound by memory, not by the additions). The rate at which one core
   !! can stream K, measured on K's own arrays: no product that reads K can beat it.
-  subroutine read_k(nb, n, val, col, row_ptr, total)
-    integer, intent(in) :: nb, n
-    real(dp), intent(in) :: val(4*nb)
+  subroutine read_k(nb, n, nv, val, col, row_ptr, total)
+    integer, intent(in) :: nb, n, nv
+    real(dp), intent(in) :: val(nv)
     integer, intent(in) :: col(nb), row_ptr(n + 1)
     real(dp), intent(out) :: total
     real(dp) :: acc(8)

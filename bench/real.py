@@ -19,6 +19,11 @@ Cases (both bodies of the Hertz problem count as elements):
   (scripts/mesh/gmsh_plate.py: unstructured CPS4 or CPS8, plane stress), moving at v = 1
   onto a rigid wall under its bottom edge (*RIGID WALL, penalty 0.1 E/h: every bottom node in
   contact from the first step). Skipped, with a message, without gmsh's Python module.
+- box-c3d8, box-c3d20: 3D, a box [0, 2] x [0, 1] x [0, 1] of 2n x n x n hexahedra
+  (scripts/mesh/box.py), clamped at x = 0 and moving at v = 1 along z (a bending wave), HRZ
+  lumped mass, the assembled stiffness in 3 x 3 blocks (INTERNAL FORCE=AUTO takes it);
+  box-c3d8-element, box-c3d20-element: the same decks with INTERNAL FORCE=ELEMENT, the
+  matrix-free step beside the assembled one.
 EXTRA_CASES: hertz-q8-consistent, hertz-q8-nlgeom; plate-q4-sorted, plate-q8-sorted: the same
 gmsh mesh with its nodes renumbered in rows along y (sort_nodes: the order of the kernel
 suite's lattices; gmsh numbers the nodes that its splitting and the second order add after
@@ -46,11 +51,12 @@ import benchmark as bm
 
 HERTZ = os.path.join(bm.SCRIPTS, "mesh", "hertz.py")
 GMSH_PLATE = os.path.join(bm.SCRIPTS, "mesh", "gmsh_plate.py")
+BOX = os.path.join(bm.SCRIPTS, "mesh", "box.py")
 CASES = ["hertz-iga", "hertz-q8", "hertz-iga-consistent", "hertz-iga-nlgeom", "plate-q4",
-         "plate-q8"]
+         "plate-q8", "box-c3d8", "box-c3d8-element", "box-c3d20", "box-c3d20-element"]
 EXTRA_CASES = ["hertz-q8-consistent", "hertz-q8-nlgeom", "plate-q4-sorted", "plate-q8-sorted"]
 # the length of the user's run (its field snapshots every 1 % of it)
-T_USER = {"hertz": 0.9, "plate": 1.0}
+T_USER = {"hertz": 0.9, "plate": 1.0, "box": 1.0}
 # the plate: lx x ly, 4 x 2 holes of radius 0.25, E, nu, rho; gmsh gives about
 # PLATE_DENSITY / size^2 elements for --size (measured: 96916 at 0.0088); beyond PLATE_MESHED
 # elements gmsh meshes a quarter (a sixteenth ...) and splits each element into four
@@ -111,6 +117,26 @@ def plate_model(path, case, size):
     return nel, False
 
 
+def box_model(path, case, size):
+    """The 3D box of 2n x n x n hexahedra (C3D8 or C3D20, scripts/mesh/box.py) clamped at
+    x = 0 and moving at v = 1 along z; -element: INTERNAL FORCE=ELEMENT (written by
+    step_deck). Returns the number of elements and False (small strain)."""
+    etype = "C3D20" if "-c3d20" in case else "C3D8"
+    n = max(1, round((size / 2) ** (1 / 3)))
+    mesh = path[:-len(".inp")] + "_mesh.inp"
+    with open(mesh, "w") as f:
+        subprocess.run([sys.executable, BOX, "--type", etype, "--nx", str(2 * n), "--ny", str(n),
+                        "--nz", str(n), "--lx", "2", "--ly", "1", "--lz", "1"], check=True,
+                       stdout=f)
+    with open(path, "w") as f:
+        f.write(f"*HEADING\nbenchmark {case}: a clamped box of {etype}, bending\n"
+                f"*ANALYSIS, TYPE=3D\n*INCLUDE, INPUT={os.path.basename(mesh)}\n"
+                "*MATERIAL, NAME=MAT\n*ELASTIC\n1000.0, 0.3\n*DENSITY\n1.0\n"
+                "*BOUNDARY\nX0, 1, 3\n*INITIAL CONDITIONS, TYPE=VELOCITY\nBODY, 3, 1.0\n"
+                "*MASS, TYPE=HRZ\n")
+    return 2 * n ** 3, False
+
+
 def sort_nodes(mesh, band):
     """Renumbers the nodes of a gmsh export (file rewritten) row by row: by y in rows of
     height band, by x within a row, as the lattices of the kernel suite are numbered; the
@@ -166,12 +192,13 @@ def bottom_faces(mesh):
     return len(e), np.concatenate(rows)
 
 
-def step_deck(path, model, nlgeom, t_end, t_user, hist_every):
+def step_deck(path, model, nlgeom, t_end, t_user, hist_every, force="AUTO"):
     """A deck that includes the model and runs to t_end with the automatic step, history
     every hist_every steps and a field snapshot every 1 % of the user's run t_user."""
     with open(path, "w") as f:
         f.write(f"*INCLUDE, INPUT={os.path.basename(model)}\n"
-                f"*STEP{', NLGEOM=YES' if nlgeom else ''}\n*DYNAMIC, EXPLICIT\n"
+                f"*STEP{', NLGEOM=YES' if nlgeom else ''}\n"
+                f"*DYNAMIC, EXPLICIT, INTERNAL FORCE={force}\n"
                 f"0, {t_end!r}\n*OUTPUT, HISTORY, EVERY={hist_every}\n"
                 f"*OUTPUT, FIELD, TIME INTERVAL={t_user / 100!r}\n*END STEP\n")
 
@@ -272,13 +299,16 @@ def floor_bytes(case, b, log):
     - consistent (Cholesky): the product the step takes from K's upper blocks (diagonal and
       upper blocks, the same per-block and per-row bytes) plus the factor read twice (forward
       and backward) for one solve;
-    - NLGEOM (element loop): the stored shape derivatives and volume weights (the log's MB),
-      the connectivity (4 B per node of an element) and u read, f written (32 B per node)."""
+    - NLGEOM and -element (element loop): the stored shape derivatives and volume weights
+      (the log's MB), the connectivity (4 B per node of an element) and u read, f written
+      (16 B per node and component).
+    - box-* (3D, 3 x 3 blocks): K u's bytes as in 2D with 72 B blocks and 3 components."""
     nrows = b["nodes"]
+    nd = int(b.get("ndm", 2))
     nnzb = (b["bytes_kmv"] - 36.0 * nrows) / 36.0
-    if case.endswith("-nlgeom"):
-        nen = 8 if "-q8" in case else 9
-        return (1e6 * log["geometry_mb"] + 4.0 * nen * b["nel"] + 32.0 * nrows,
+    if case.endswith(("-nlgeom", "-element")):
+        nen = {"c3d8": 8, "c3d20": 20, "q8": 8}.get(case.split("-")[1], 9)
+        return (1e6 * log["geometry_mb"] + 4.0 * nen * b["nel"] + 16.0 * nd * nrows,
                 "geometry + connectivity + u, f")
     if b["consistent"]:
         upper = 36.0 * (nnzb + nrows) / 2 + 36.0 * nrows
@@ -293,20 +323,22 @@ def run_case(args, work, case, size, ranks=1):
     family = case.split("-")[0]
     tag = f"{case}-{size:g}"
     model = os.path.join(work, f"{tag}_model.inp")
+    force = "ELEMENT" if case.endswith("-element") else "AUTO"
     t0 = time.time()
     if ranks == 1 or not os.path.exists(model):
-        nel, nlgeom = (hertz_model if family == "hertz" else plate_model)(model, case, size)
+        make = {"hertz": hertz_model, "plate": plate_model, "box": box_model}[family]
+        nel, nlgeom = make(model, case, size)
         with open(model + ".info", "w") as f:
             f.write(f"{nel} {int(nlgeom)}\n")
     with open(model + ".info") as f:
         nel, nlgeom = (int(v) for v in f.read().split())
     tdeck = time.time() - t0
-    slow = case.endswith(("-consistent", "-nlgeom"))
+    slow = case.endswith(("-consistent", "-nlgeom", "-element"))
     steps = args.steps or (100 if slow else 500)
     t_user = T_USER[family]
     deck = os.path.join(work, f"{tag}.inp")
     # ictus-bench: the step's kernels without output, STREAM, and the automatic dt
-    step_deck(deck, model, nlgeom, t_user, t_user, 1)
+    step_deck(deck, model, nlgeom, t_user, t_user, 1, force)
     try:
         b = bm.run_bench(args, deck, nel, slow, ranks, steps=max(8, min(40, round(2e6 / nel))),
                          extra=["--no-elem"])
@@ -318,7 +350,7 @@ def run_case(args, work, case, size, ranks=1):
     # the runs: history every step, then (np = 1) history off; t_end = steps x dt
     runs = [("on", 1)] + ([("off", HIST_OFF)] if ranks == 1 else [])
     for name, every in runs:
-        step_deck(deck, model, nlgeom, steps * b["dt"], t_user, every)
+        step_deck(deck, model, nlgeom, steps * b["dt"], t_user, every, force)
         try:
             log, wall, peaks = run_ictus(args, deck, ranks)
         except RuntimeError as e:
@@ -348,7 +380,7 @@ def figures(res):
     b, on, nel = res["bench"], res["on"], res["nel"]
     off = res.get("off")
     dt = on["dt"]
-    family = "hertz" if res["case"].startswith("hertz") else "plate"
+    family = res["case"].split("-")[0]
     # snapshots per step in the user's run of T_USER: 100 of them in T/dt steps
     per_step = 100.0 * dt / T_USER[family]
     f = {"loop": 1e9 * on["t_loop"] / nel,
@@ -371,14 +403,15 @@ def row(res):
 
     def ns(x, digits=1):
         return "-" if x is None else f"{x:.{digits}f}"
-    return [case, f"{nel}", f"{int(2 * b['nodes'])}", f"{on['steps']}", f"{on['dt']:.3g}",
+    return [case, f"{nel}", f"{int(b.get('ndm', 2) * b['nodes'])}", f"{on['steps']}",
+            f"{on['dt']:.3g}",
             ns(f["step"]), ns(f["off"]) + ("" if res.get("off", {}).get("tuned") in
                                            (None, True) else "*"),
             ns(f["loop"] - f["off"]) if f["off"] else "-",
             f"{on['t_snap']:.2f}" if on["t_snap"] == on["t_snap"] else "-",
             ns(f["fields"], 2),
             f"{(f['step'] - f['off']) / f['step']:.2f}" if f["off"] else "-",
-            ns(bm.ns_el(b, "t_single")), ns(bm.ns_el(b, "t_kmv")),
+            ns(bm.ns_el(b, "t_single")), ns(bm.ns_el(b, "t_kmv")) if b["t_kmv"] > 0 else "-",
             ns(bm.ns_el(b, "t_contact")) if b["contact_points"] else "-",
             ns(bm.ns_el(b, "t_mass")) if b["consistent"] else "-",
             ns(f["floor"]), f"{f['step'] / f['floor']:.2f}",
@@ -422,6 +455,20 @@ def verdicts(res, np2):
             r = figures(nl[n])["step"] / figures(runs[n])["step"]
             add(f"hertz-{disc}-nlgeom: step / the small-strain step ({n} el.)", f"{r:.2f} x",
                 None)
+    for etype in ("c3d8", "c3d20"):
+        runs = {n: r for n, r in res.get(f"box-{etype}", {}).items() if ok(r)}
+        for n, r in sorted(runs.items()):
+            f = figures(r)
+            add(f"box-{etype} (3D, assembled K): whole step <= 1.5 x its memory-bound floor "
+                f"({n} el.)", f"{f['step'] / f['floor']:.2f} x",
+                f["step"] <= 1.5 * f["floor"] if etype == "c3d8" and n >= 5e5 else None)
+            add(f"box-{etype}: history off / floor ({n} el.)", f"{f['off'] / f['floor']:.2f} x",
+                None)
+        el = {n: r for n, r in res.get(f"box-{etype}-element", {}).items() if ok(r)}
+        for n in sorted(set(el) & set(runs)):
+            r = figures(el[n])["step"] / figures(runs[n])["step"]
+            add(f"box-{etype}-element: the element-loop step / the assembled step ({n} el.)",
+                f"{r:.2f} x", None)
     for case, runs in sorted(np2.items()):
         for n, r2 in runs.items():
             r1 = res[case][n]
