@@ -15,12 +15,13 @@ module ictus_app_build_contact
       element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
-      contact_define_friction, PAIR_MORTAR, PAIR_TIE
+      contact_define_friction, PAIR_MORTAR, PAIR_TIE, contact_init3d
+  use ictus_contact_face3d, only: surface3d_init
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_elements_types, only: element_kind_t
   use ictus_elements_library, only: element_kind
   use ictus_io_deck_types, only: deck_t, surface_in_t, SURF_ELEMENT, SURF_PATCH, &
-      CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR
+      CONTACT_NODE_TO_SEGMENT, CONTACT_MORTAR, CONTACT_TWO_HALF_PASS
   use ictus_app_build_model, only: resolve_elem_set, patch_index
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   implicit none
@@ -42,11 +43,8 @@ contains
     integer, allocatable :: fe_ids(:)
     character(len=str_len) :: name
     n0 = error_count()
-    ! contact in 3D is refused by the reader (the faces of hexahedra are not segments): a 3D
-    ! model has no contact surfaces to build
     if (model%ndm == 3) then
-      call contact_init(c, 0, 0)
-      c%node_id = model%node_id
+      call build_contact3d(deck, model, c)
       return
     end if
     call contact_init(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
@@ -90,7 +88,8 @@ contains
         name = w%name
         if (len_trim(name) == 0) name = 'wall'//str(i)
         if (any(w%normal /= 0.0_dp)) then
-          call contact_define_wall(c, k, name, w%point, w%normal, w%penalty, max(s1, 1))
+          call contact_define_wall(c, k, name, w%point(1:2), w%normal(1:2), w%penalty, &
+              max(s1, 1))
         else
           call input_error(w%where, '*RIGID WALL '//trim(w%name)//': NORMAL is zero')
         end if
@@ -103,6 +102,98 @@ contains
       call check_ties(deck, c)
     end if
   end subroutine build_contact
+
+  !> build_contact in 3D (doc/contact.md §9): the TYPE=ELEMENT surfaces as quadrilateral
+  !! faces, the TWO HALF PASS pairs and the rigid walls between them. What 3D contact does not
+  !! have yet is an input error at its card: other algorithms, *TIE, friction, bipenalty and
+  !! surfaces of patch sides.
+  subroutine build_contact3d(deck, model, c)
+    type(deck_t), intent(in) :: deck
+    type(model_t), intent(in) :: model
+    type(contact_t), intent(inout) :: c
+    type(id_map_t) :: emap
+    integer, allocatable :: conn(:,:), nens(:), elem(:)
+    integer :: i, k, n0, s1, s2, nface
+    character(len=str_len) :: name
+    character(len=*), parameter :: not_yet = ': not yet in 3D (3D contact has ALGORITHM='// &
+        'TWO HALF PASS pairs and rigid walls, frictionless, between element faces)'
+    n0 = error_count()
+    call contact_init3d(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
+    c%node_id = model%node_id
+    call id_map_init(emap, model%elem_id)
+    do i = 1, deck%n_surfaces
+      associate (sin => deck%surfaces(i))
+        if (sin%kind /= SURF_ELEMENT) then
+          allocate(nens(0), conn(9, 0))
+        else
+          call element_faces(deck, model, emap, sin, nface, conn, nens, elem)
+          nens = nens(1:nface)
+          conn = conn(:, 1:nface)
+        end if
+        call surface3d_init(c%d3%surfaces(i), nens, conn, model%x0)
+        deallocate(nens, conn)
+        if (allocated(elem)) deallocate(elem)
+      end associate
+    end do
+    do i = 1, deck%n_pairs
+      associate (p => deck%pairs(i))
+        s1 = surface_index(deck, p%first, p%where, '*CONTACT PAIR '//trim(p%name))
+        s2 = surface_index(deck, p%second, p%where, '*CONTACT PAIR '//trim(p%name))
+        if (p%tie) then
+          call input_error(p%where, '*TIE'//not_yet)
+        else if (p%algorithm /= CONTACT_TWO_HALF_PASS) then
+          call input_error(p%where, '*CONTACT PAIR '//trim(p%name)//': ALGORITHM='// &
+              trim(merge('NODE TO SEGMENT', 'MORTAR         ', &
+              p%algorithm == CONTACT_NODE_TO_SEGMENT))//not_yet)
+        end if
+        if (p%mass_penalty >= 0.0_dp) call input_error(p%where, '*CONTACT PAIR '// &
+            trim(p%name)//': MASS PENALTY (bipenalty)'//not_yet)
+        if (len_trim(p%interaction) > 0) call input_error(p%where, '*CONTACT PAIR '// &
+            trim(p%name)//': INTERACTION= (friction)'//not_yet)
+        if (s1 > 0 .and. s1 == s2) call input_error(p%where, '*CONTACT PAIR '// &
+            trim(p%name)//': both surfaces are '//trim(p%first)// &
+            ' (self-contact is not supported)')
+        call check_surface3d(deck, c, s1, p%where, '*CONTACT PAIR '//trim(p%name))
+        call check_surface3d(deck, c, s2, p%where, '*CONTACT PAIR '//trim(p%name))
+        name = p%name
+        if (len_trim(name) == 0) name = 'pair'//str(i)
+        call contact_define_pair(c, i, name, PAIR_TWO_HALF_PASS, p%penalty, max(s1, 1), &
+            max(s2, 1))
+      end associate
+    end do
+    do i = 1, deck%n_walls
+      k = deck%n_pairs + i
+      associate (w => deck%walls(i))
+        s1 = surface_index(deck, w%surface, w%where, '*RIGID WALL '//trim(w%name))
+        if (len_trim(w%interaction) > 0) call input_error(w%where, '*RIGID WALL '// &
+            trim(w%name)//': INTERACTION= (friction)'//not_yet)
+        call check_surface3d(deck, c, s1, w%where, '*RIGID WALL '//trim(w%name))
+        name = w%name
+        if (len_trim(name) == 0) name = 'wall'//str(i)
+        call contact_define_wall(c, k, name, w%point, w%normal, w%penalty, max(s1, 1))
+      end associate
+    end do
+    call check_names(deck, c)
+    if (error_count() == n0 .and. c%npairs > 0) call contact_setup(c)
+  end subroutine build_contact3d
+
+  !> A surface of a 3D contact (index s, 0: undefined, already reported) must be made of
+  !! element faces.
+  subroutine check_surface3d(deck, c, s, where, card)
+    type(deck_t), intent(in) :: deck
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: s
+    character(len=*), intent(in) :: where, card
+    if (s == 0) return
+    if (deck%surfaces(s)%kind /= SURF_ELEMENT) then
+      call input_error(where, card//': surface '//trim(deck%surfaces(s)%name)//' is made '// &
+          'of patch sides; contact on the faces of trivariate patches is not yet in 3D '// &
+          '(use element faces, *SURFACE, TYPE=ELEMENT)')
+    else if (c%d3%surfaces(s)%nface == 0) then
+      call input_error(where, card//': surface '//trim(deck%surfaces(s)%name)// &
+          ' has no element faces')
+    end if
+  end subroutine check_surface3d
 
   !> Every *TIE must tie something: an input error when no point of its first surface lies
   !! on the second (within 5 % of the longest segment), a warning naming the count when

@@ -27,7 +27,7 @@ module ictus_app_time_loop
   use ictus_solver_guard, only: largest_rotation, ROTATION_LIMIT
   use ictus_solver_fields, only: element_fields_t, element_fields
   use ictus_elements_library, only: etype_name
-  use ictus_contact_contact, only: contact_t
+  use ictus_contact_contact, only: contact_t, pair_resultant
   use ictus_io_deck_types, only: deck_t
   use ictus_io_deck_echo, only: deck_echo, record_digest_line
   use ictus_io_deck_record, only: deck_record_write, deck_record_digest
@@ -513,7 +513,8 @@ contains
     type(loop_t), intent(inout) :: lp
     type(stepper_t), intent(in) :: stp
     integer, intent(in) :: n, m
-    real(dp) :: elapsed
+    real(dp) :: elapsed, f(3)
+    character(len=:), allocatable :: fs
     integer :: k
     if (.not. (m/lp%print_every > n/lp%print_every .or. &
         wall_time() - lp%t_last_print > 10.0_dp)) return
@@ -524,9 +525,12 @@ contains
         '  elapsed '//str(elapsed, 3)//' s  ETA '// &
         str(elapsed*real(lp%nsteps - m, dp)/real(max(m, 1), dp), 3)//' s')
     do k = 1, stp%contact%npairs
+      f = pair_resultant(stp%contact, k, 1)
+      fs = str(f(1), 5)//', '//str(f(2), 5)
+      if (stp%contact%ndm == 3) fs = fs//', '//str(f(3), 5)
       associate (p => stp%contact%pairs(k))
-        call log_info('  contact '//trim(p%name)//': force '//str(p%force_first(1), 5)// &
-            ', '//str(p%force_first(2), 5)//'  max pressure '//str(p%max_pressure, 5)// &
+        call log_info('  contact '//trim(p%name)//': force '//fs// &
+            '  max pressure '//str(p%max_pressure, 5)// &
             '  max penetration '//str(p%max_penetration, 4)//'  active points '// &
             str(p%active_points))
       end associate

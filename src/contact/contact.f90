@@ -19,12 +19,15 @@ module ictus_contact_contact
   use ictus_contact_wall, only: wall_forces
   use ictus_contact_search, only: search_grid_t
   use ictus_contact_projection, only: projection_t, PROJ_INTERIOR, PROJ_CORNER
+  use ictus_contact_contact3d, only: contact3d_t, contact3d_setup, contact3d_pair_forces, &
+      contact3d_ratio
   implicit none
   private
   public :: contact_t, contact_init, contact_define_pair, contact_define_wall, contact_setup, &
       contact_forces, contact_stability, contact_failures, contact_free, contact_pair_t, &
       contact_surface_t, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, PAIR_WALL, PAIR_MORTAR, &
-      PAIR_TIE, contact_define_friction, contact_commit, pair_stiffness
+      PAIR_TIE, contact_define_friction, contact_commit, pair_stiffness, contact_init3d, &
+      contact_node_mask, pair_resultant
 
   !> All pairs and walls of a model (walls after the pairs), their surfaces and results.
   type :: contact_t
@@ -46,6 +49,11 @@ module ictus_contact_contact
     logical :: started = .false.
     real(dp), allocatable :: x_prev(:,:)
     real(dp) :: friction_work = 0.0_dp
+    !> Dimension of the model; in 3D (ndm = 3) the surfaces of faces and the geometry and
+    !! results of each pair's 3D evaluation are in d3 (surfaces stays empty; pairs holds
+    !! names, kinds, penalties and the results common to both).
+    integer :: ndm = 2
+    type(contact3d_t) :: d3
   end type contact_t
 
 contains
@@ -60,6 +68,17 @@ contains
     c%npairs = npairs
     allocate(c%surfaces(nsurf), c%pairs(npairs))
   end subroutine contact_init
+
+  !> Allocates a 3D contact of nsurf surfaces of faces (c%d3%surfaces, to be set by
+  !! surface3d_init) and npairs pairs + walls (calls contact_free first).
+  subroutine contact_init3d(c, nsurf, npairs)
+    type(contact_t), intent(inout) :: c
+    integer, intent(in) :: nsurf, npairs
+    call contact_init(c, 0, npairs)
+    c%ndm = 3
+    c%d3%nsurf = nsurf
+    allocate(c%d3%surfaces(nsurf), c%d3%pairs(npairs))
+  end subroutine contact_init3d
 
   !> Releases everything.
   subroutine contact_free(c)
@@ -86,18 +105,23 @@ contains
     c%pairs(k)%second = second
     c%pairs(k)%radius = 0.0_dp
     if (present(radius)) c%pairs(k)%radius = radius
+    if (c%ndm == 3) then
+      c%d3%pairs(k)%first = first
+      c%d3%pairs(k)%second = second
+      c%d3%pairs(k)%radius = c%pairs(k)%radius
+    end if
   end subroutine contact_define_pair
 
   !> Defines pair k as a rigid wall against surface `surf`.
-  !! @param c contact; @param k pair index; @param name (lower case); @param point (2);
-  !! @param normal (2), into the allowed side (normalised here; must be non-zero);
+  !! @param c contact; @param k pair index; @param name (lower case); @param point (ndm);
+  !! @param normal (ndm), into the allowed side (normalised here; must be non-zero);
   !! @param penalty eps_N; @param surf surface index
   subroutine contact_define_wall(c, k, name, point, normal, penalty, surf)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: k, surf
     character(len=*), intent(in) :: name
-    real(dp), intent(in) :: point(2), normal(2), penalty
-    real(dp) :: n(2)
+    real(dp), intent(in) :: point(:), normal(:), penalty
+    real(dp) :: n(size(normal))
     c%pairs(k)%name = lower(trim(name))
     c%pairs(k)%kind = PAIR_WALL
     c%pairs(k)%penalty = penalty
@@ -107,8 +131,46 @@ contains
     ! scaled by its largest component first: the squares of a normal of 1e-300 or 1e300 would
     ! leave the range of doubles, and any length names the same direction
     n = normal/maxval(abs(normal))
-    c%pairs(k)%wall_normal = n/norm2(n)
+    if (c%ndm == 3) then
+      c%d3%pairs(k)%first = surf
+      c%d3%pairs(k)%second = 0
+      c%d3%pairs(k)%wall_point = point(1:3)
+      c%d3%pairs(k)%wall_normal = n(1:3)/norm2(n(1:3))
+    else
+      c%pairs(k)%wall_point = point(1:2)
+      c%pairs(k)%wall_normal = n(1:2)/norm2(n(1:2))
+    end if
   end subroutine contact_define_wall
+
+  !> Whether each of the nn nodes is a node of a contact surface.
+  function contact_node_mask(c, nn) result(mark)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: nn
+    logical :: mark(nn)
+    integer :: k
+    mark = .false.
+    do k = 1, c%nsurf
+      mark(c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = .true.
+    end do
+    do k = 1, c%d3%nsurf
+      mark(c%d3%surfaces(k)%nodes(1:c%d3%surfaces(k)%nsn)) = .true.
+    end do
+  end function contact_node_mask
+
+  !> The resultant force of pair k on its first (side 1) or second (side 2) surface (for a
+  !! wall side 2 is the force on the wall), with z = 0 in 2D.
+  pure function pair_resultant(c, k, side) result(f)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k, side
+    real(dp) :: f(3)
+    if (c%ndm == 3) then
+      f = c%d3%pairs(k)%force_first
+      if (side == 2) f = c%d3%pairs(k)%force_second
+    else
+      f = [c%pairs(k)%force_first, 0.0_dp]
+      if (side == 2) f = [c%pairs(k)%force_second, 0.0_dp]
+    end if
+  end function pair_resultant
 
   !> Gives pair k (defined) Coulomb friction (doc/contact.md §4a): coefficient mu (> 0;
   !! mu = 0 leaves the pair frictionless) and tangential penalty eps_t (<= 0: the normal
@@ -140,7 +202,7 @@ contains
   subroutine contact_commit(c, nn, x)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
-    real(dp), intent(in) :: x(2, nn)
+    real(dp), intent(in) :: x(:,:)
     integer :: k, i
     if (.not. c%friction) return
     c%friction_work = 0.0_dp
@@ -161,6 +223,10 @@ contains
     type(contact_t), intent(inout) :: c
     real(dp), intent(in), optional :: x0(:,:)
     integer :: k, s2
+    if (c%ndm == 3) then
+      call setup3d(c)
+      return
+    end if
     do k = 1, c%npairs
       s2 = c%pairs(k)%second
       if (s2 == 0) s2 = c%pairs(k)%first
@@ -171,10 +237,31 @@ contains
     end do
   end subroutine contact_setup
 
+  !> contact_setup in 3D: the pairs' grids and their point output (the first surface's Gauss
+  !! points).
+  subroutine setup3d(c)
+    type(contact_t), intent(inout) :: c
+    integer :: k
+    do k = 1, c%npairs
+      c%d3%pairs(k)%penalty = c%pairs(k)%penalty
+    end do
+    call contact3d_setup(c%d3)
+    do k = 1, c%npairs
+      associate (p => c%pairs(k))
+        p%npoints = c%d3%surfaces(c%d3%pairs(k)%first)%ngp
+        if (allocated(p%x)) deallocate(p%x)
+        if (allocated(p%pressure)) deallocate(p%pressure)
+        if (allocated(p%inside)) deallocate(p%inside)
+        allocate(p%x(3, p%npoints), p%pressure(p%npoints), source=0.0_dp)
+        allocate(p%inside(0))
+      end associate
+    end do
+  end subroutine setup3d
+
   !> Contact forces of all pairs and walls on the current (predicted) coordinates.
   !! Does not allocate. Updates each pair's results and point output.
-  !! @param c contact; @param nn number of nodes; @param x coordinates x0 + u_pre (2, nn);
-  !! @param fc contact forces (2, nn): zeroed on the surface nodes, then accumulated (other
+  !! @param c contact; @param nn number of nodes; @param x coordinates x0 + u_pre (ndm, nn);
+  !! @param fc contact forces (ndm, nn): zeroed on the surface nodes, then accumulated (other
   !! entries are left untouched; zero the array once before the first call);
   !! @param energy penalty energy: sum over points of 1/2 eps gp^2 w J (TWO HALF PASS: the
   !! mean of its two half-passes; NODE TO SEGMENT: sum 1/2 eps gp^2 l_s);
@@ -183,11 +270,15 @@ contains
   subroutine contact_forces(c, nn, x, fc, energy, dm)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
-    real(dp), intent(in) :: x(2, nn)
-    real(dp), intent(inout) :: fc(2, nn)
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(inout) :: fc(:,:)
     real(dp), intent(out) :: energy
-    real(dp), intent(inout), optional :: dm(nn)
+    real(dp), intent(inout), optional :: dm(:)
     integer :: k, i
+    if (c%ndm == 3) then
+      call forces3d(c, x, fc, energy)
+      return
+    end if
     ! only surface nodes receive contact forces: zero just those (cost of the surface)
     ! (loops, not vector subscripts: those make heap temporaries)
     do k = 1, c%nsurf
@@ -214,6 +305,36 @@ contains
       call all_pairs(c, x, x, fc, energy, dm)
     end if
   end subroutine contact_forces
+
+  !> contact_forces in 3D (frictionless pairs and walls, no bipenalty: refused by the
+  !! reader): the pairs' results copied into c%pairs for the output.
+  subroutine forces3d(c, x, fc, energy)
+    type(contact_t), intent(inout) :: c
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(out) :: energy
+    integer :: k, i
+    do k = 1, c%d3%nsurf
+      do i = 1, c%d3%surfaces(k)%nsn
+        fc(:, c%d3%surfaces(k)%nodes(i)) = 0.0_dp
+      end do
+    end do
+    energy = 0.0_dp
+    c%failures = 0
+    do k = 1, c%npairs
+      associate (p => c%pairs(k), q => c%d3%pairs(k))
+        q%penalty = p%penalty
+        call contact3d_pair_forces(c%d3, k, x, fc, p%x, p%pressure)
+        p%energy = q%energy
+        p%max_pressure = q%max_pressure
+        p%max_penetration = q%max_penetration
+        p%active_points = q%active_points
+        p%outside_points = q%outside_points
+        p%outside_total = p%outside_total + q%outside_points
+        energy = energy + q%energy
+      end associate
+    end do
+  end subroutine forces3d
 
   !> The forces of every pair (contact_forces), friction increments measured from xprev.
   subroutine all_pairs(c, x, xprev, fc, energy, dm)
@@ -266,7 +387,7 @@ contains
   subroutine contact_stability(c, nn, x, m_diag, dt, r_max, where, r_pair)
     type(contact_t), intent(inout) :: c
     integer, intent(in) :: nn
-    real(dp), intent(in) :: x(2, nn), m_diag(nn), dt
+    real(dp), intent(in) :: x(:,:), m_diag(nn), dt
     real(dp), intent(out) :: r_max
     character(len=*), intent(out) :: where
     real(dp), intent(out), optional :: r_pair(:)
@@ -280,7 +401,15 @@ contains
       r = 0.0_dp
       at = ''
       associate (p => c%pairs(k))
-        select case (p%kind)
+        if (c%ndm == 3) then
+          call contact3d_ratio(c%d3, k, pair_stiffness(p), x, m_diag, dt, r, gs, gm)
+          at = trim(p%name)//': node '//str(user_id(c, gs))
+          if (gm > 0) at = trim(at)//' against node '//str(user_id(c, gm))
+          if (r >= huge(1.0_dp)) at = trim(at)//' (non-positive lumped mass)'
+        end if
+        select case (merge(-1, p%kind, c%ndm == 3))
+        case (-1)
+          continue
         case (PAIR_WALL)
           call side_ratio(c, p%name, pair_stiffness(p), p%eps_m, c%surfaces(p%first), &
               c%surfaces(p%first), &

@@ -63,8 +63,11 @@ module ictus_contact_face3d
     integer :: ngp = 0
     integer, allocatable :: gp_face(:)
     real(dp), allocatable :: gp_xi(:,:), gp_wj(:), gp_r(:,:)
-    !> Nodal weights l_A = int N_A dA (reference), the largest face diameter.
-    real(dp), allocatable :: ell(:)
+    !> Nodal weights l_A = int N_A dA (reference), their row-sum bound
+    !! l_row_A = int |N_A| sum_B |N_B| dA (the Gershgorin row sum of the penalty stiffness
+    !! of a flat contact per unit penalty: > 0 also at the corners of 8-node faces, where
+    !! l_A < 0), the largest face diameter.
+    real(dp), allocatable :: ell(:), ell_row(:)
     real(dp) :: hmax = 0.0_dp
   end type surface3d_t
 
@@ -268,7 +271,7 @@ contains
     end do
     allocate(s%gp_face(s%ngp), s%gp_xi(2, s%ngp), s%gp_wj(s%ngp), &
         s%gp_r(MAX_FACE_NODES, s%ngp))
-    allocate(s%ell(s%nsn), source=0.0_dp)
+    allocate(s%ell(s%nsn), s%ell_row(s%nsn), source=0.0_dp)
     s%gp_r = 0.0_dp
     q = 0
     do f = 1, s%nface
@@ -285,6 +288,8 @@ contains
           s%gp_r(1:s%nen(f), q) = r(1:s%nen(f))
           do k = 1, s%nen(f)
             s%ell(s%lnode(k, f)) = s%ell(s%lnode(k, f)) + r(k)*s%gp_wj(q)
+            s%ell_row(s%lnode(k, f)) = s%ell_row(s%lnode(k, f)) + abs(r(k))* &
+                sum(abs(r(1:s%nen(f))))*s%gp_wj(q)
           end do
         end do
       end do
@@ -337,6 +342,11 @@ contains
       xp = xq
       dist = dnew
       if (maxval(abs(dxi)) <= tol) exit
+      ! a point far in front of the face (beyond an eighth of its size, within 60 degrees of
+      ! its normal) gets no force from it whatever its exact closest point: stop there. The
+      ! steps contract by about the distance times the curvature, so such points would take
+      ! the most iterations; points near or behind the face converge to tol.
+      if (it >= 4 .and. dist > 0.25_dp*scale .and. dot_product(xs - xp, n) > 0.5_dp*dist) exit
     end do
     call face_geometry(s, f, x, xi, xp, a, n, jac)
     side = 0
@@ -374,7 +384,8 @@ contains
     type(projection3d_t), intent(out) :: res
     real(dp) :: xi(2), xp(3), n(3), dist, best_in, best_cl, n2(3), a(3, 2), jac, xq(3), xi2(2)
     integer :: k, f, side, f_cl, side_cl, f2, s2
-    real(dp) :: xi_cl(2), xp_cl(3), n_cl(3)
+    real(dp) :: xi_cl(2), xp_cl(3), n_cl(3), lb(ncand), box(6), t
+    integer :: order(ncand), j, i
     best_in = huge(1.0_dp)
     best_cl = huge(1.0_dp)
     f_cl = 0
@@ -382,8 +393,29 @@ contains
     xi_cl = 0.0_dp
     xp_cl = 0.0_dp
     n_cl = 0.0_dp
+    ! the faces in the order of a lower bound of their distance (to their box, which holds
+    ! the face): once an interior projection is found, a face whose bound is not below its
+    ! distance cannot give a closer one and is not projected (most candidates of a search
+    ! radius of a face size are such)
     do k = 1, ncand
-      f = cand(k)
+      call face_bbox(s, cand(k), x, 0.0_dp, box)
+      lb(k) = norm2(max(box(1:3) - xs, 0.0_dp, xs - box(4:6)))
+      order(k) = k
+    end do
+    do k = 2, ncand
+      i = order(k)
+      t = lb(i)
+      j = k - 1
+      do while (j >= 1)
+        if (lb(order(j)) <= t) exit
+        order(j + 1) = order(j)
+        j = j - 1
+      end do
+      order(j + 1) = i
+    end do
+    do k = 1, ncand
+      if (lb(order(k)) >= best_in) exit
+      f = cand(order(k))
       call project_face(s, f, x, xs, xi, xp, n, side)
       dist = norm2(xs - xp)
       if (side == 0) then

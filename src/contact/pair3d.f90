@@ -18,9 +18,13 @@ module ictus_contact_pair3d
   use ictus_contact_search3d, only: grid3_t, grid3_init, grid3_build, grid3_query
   implicit none
   private
-  public :: pair3d_t, pair3d_setup, two_half_pass3d, wall3d
+  public :: pair3d_t, pair3d_setup, pair3d_grids, two_half_pass3d, wall3d
 
   type :: pair3d_t
+    !> Surface indices of the first and second surface in their owner's list (second = 0
+    !! for a rigid wall); not used by the routines here, which take the surfaces.
+    integer :: first = 0
+    integer :: second = 0
     !> Normal penalty, search radius (0: the largest face of the two surfaces).
     real(dp) :: penalty = 0.0_dp
     real(dp) :: radius = 0.0_dp
@@ -82,31 +86,43 @@ contains
     p%outside_points = 0
   end subroutine reset
 
+  !> The search grids of both surfaces on the coordinates x (3, nn).
+  subroutine pair3d_grids(p, s1, s2, x)
+    type(pair3d_t), intent(inout) :: p
+    type(surface3d_t), intent(in) :: s1, s2
+    real(dp), intent(in) :: x(:,:)
+    call build_grid(s1, x, p%radius, p%grid_first)
+    call build_grid(s2, x, p%radius, p%grid_second)
+  end subroutine pair3d_grids
+
   !> TWO HALF PASS forces on the coordinates x (3, nn), accumulated into fc (3, nn).
-  subroutine two_half_pass3d(p, s1, s2, x, fc)
+  !! Optional xs (3, s1%ngp) and ps (s1%ngp): the current Gauss points of the first surface
+  !! and their pressure eps gp (0 where open).
+  subroutine two_half_pass3d(p, s1, s2, x, fc, xs, ps)
     type(pair3d_t), intent(inout) :: p
     type(surface3d_t), intent(in) :: s1, s2
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(inout), optional :: xs(:,:), ps(:)
     real(dp) :: e1, e2
     call reset(p)
-    call build_grid(s1, x, p%radius, p%grid_first)
-    call build_grid(s2, x, p%radius, p%grid_second)
+    call pair3d_grids(p, s1, s2, x)
     e1 = 0.0_dp
     e2 = 0.0_dp
-    call half_pass(p, s1, s2, p%grid_second, x, fc, p%force_first, e1)
+    call half_pass(p, s1, s2, p%grid_second, x, fc, p%force_first, e1, xs, ps)
     call half_pass(p, s2, s1, p%grid_first, x, fc, p%force_second, e2)
     p%energy = 0.5_dp*(e1 + e2)
   end subroutine two_half_pass3d
 
   !> One half-pass: the Gauss points of `slave` against `master` (grid built); forces on
-  !! the slave's nodes, its resultant and energy accumulated.
-  subroutine half_pass(p, slave, master, grid, x, fc, force, energy)
+  !! the slave's nodes, its resultant and energy accumulated; xs, ps as in two_half_pass3d.
+  subroutine half_pass(p, slave, master, grid, x, fc, force, energy, xs, ps)
     type(pair3d_t), intent(inout) :: p
     type(surface3d_t), intent(in) :: slave, master
     type(grid3_t), intent(in) :: grid
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:), force(3), energy
+    real(dp), intent(inout), optional :: xs(:,:), ps(:)
     type(projection3d_t) :: pr
     real(dp) :: xq(3), gp, tr(3)
     integer :: q, f, k, ncand
@@ -116,12 +132,15 @@ contains
       do k = 1, slave%nen(f)
         xq = xq + slave%gp_r(k, q)*x(:, slave%conn(k, f))
       end do
+      if (present(xs)) xs(:, q) = xq
+      if (present(ps)) ps(q) = 0.0_dp
       call grid3_query(grid, xq, p%cand, ncand)
       call project3d(master, x, xq, p%cand, ncand, pr)
       if (pr%status == P3_OUTSIDE .and. pr%d < 0.0_dp) p%outside_points = p%outside_points + 1
       if (pr%status /= P3_INTERIOR .and. pr%status /= P3_CORNER) cycle
       gp = max(0.0_dp, -pr%d)
       if (gp <= 0.0_dp) cycle
+      if (present(ps)) ps(q) = p%penalty*gp
       tr = p%penalty*gp*pr%normal*slave%gp_wj(q)
       call spread(slave, f, q, tr, fc, force)
       energy = energy + 0.5_dp*p%penalty*gp*gp*slave%gp_wj(q)
@@ -147,12 +166,13 @@ contains
   end subroutine spread
 
   !> Rigid-wall forces on surface s at the coordinates x (3, nn), accumulated into fc; the
-  !! force on the wall is -force_first.
-  subroutine wall3d(p, s, x, fc)
+  !! force on the wall is -force_first. Optional xs, ps as in two_half_pass3d.
+  subroutine wall3d(p, s, x, fc, xs, ps)
     type(pair3d_t), intent(inout) :: p
     type(surface3d_t), intent(in) :: s
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(inout), optional :: xs(:,:), ps(:)
     real(dp) :: xq(3), gp, tr(3)
     integer :: q, f, k
     call reset(p)
@@ -163,6 +183,8 @@ contains
         xq = xq + s%gp_r(k, q)*x(:, s%conn(k, f))
       end do
       gp = max(0.0_dp, -dot_product(xq - p%wall_point, p%wall_normal))
+      if (present(xs)) xs(:, q) = xq
+      if (present(ps)) ps(q) = p%penalty*gp
       if (gp <= 0.0_dp) cycle
       tr = p%penalty*gp*p%wall_normal*s%gp_wj(q)
       call spread(s, f, q, tr, fc, p%force_first)

@@ -10,7 +10,7 @@ module ictus_io_checkpoint
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: str
   use ictus_parallel_env, only: env_is_root, barrier, bcast
-  use ictus_contact_contact, only: contact_t, contact_pair_t
+  use ictus_contact_contact, only: contact_t, contact_pair_t, pair_resultant
   use ictus_solver_domain, only: domain_t, domain_owns
   use ictus_solver_explicit, only: state_t
   use ictus_solver_contact_step, only: contact_step_t
@@ -91,8 +91,9 @@ contains
         call h5u_attr_int(g, 'outside_points', p%outside_points)
         call h5u_attr_int(g, 'outside_total', int(min(p%outside_total, &
             int(huge(1), kind(p%outside_total)))))
-        call h5u_write(g, 'values', [p%force_first, p%force_second, p%max_pressure, &
-            p%max_penetration, real(p%active_points, dp), p%energy])
+        call h5u_write(g, 'values', [pair_resultant(contact, k, 1), &
+            pair_resultant(contact, k, 2), p%max_pressure, p%max_penetration, &
+            real(p%active_points, dp), p%energy])
         if (p%npoints > 0) then
           call h5u_write(g, 'x', p%x(:, 1:p%npoints))
           call h5u_write(g, 'pressure', p%pressure(1:p%npoints))
@@ -176,7 +177,7 @@ contains
     end if
     if (size(s%hist) > 0) call read_history(f, dom, s)
     allocate(ck%was_active(contact%npairs))
-    allocate(vals(8))
+    allocate(vals(10))
     do k = 1, contact%npairs
       associate (p => contact%pairs(k))
         call h5u_group(f, 'pair'//str(k), g)
@@ -184,12 +185,17 @@ contains
         p%outside_points = h5u_read_attr_int(g, 'outside_points')
         p%outside_total = h5u_read_attr_int(g, 'outside_total')
         call h5u_read(g, 'values', vals)
-        p%force_first = vals(1:2)
-        p%force_second = vals(3:4)
-        p%max_pressure = vals(5)
-        p%max_penetration = vals(6)
-        p%active_points = nint(vals(7))
-        p%energy = vals(8)
+        if (contact%ndm == 3) then
+          contact%d3%pairs(k)%force_first = vals(1:3)
+          contact%d3%pairs(k)%force_second = vals(4:6)
+        else
+          p%force_first = vals(1:2)
+          p%force_second = vals(4:5)
+        end if
+        p%max_pressure = vals(7)
+        p%max_penetration = vals(8)
+        p%active_points = nint(vals(9))
+        p%energy = vals(10)
         if (p%npoints > 0) then
           call h5u_read(g, 'x', p%x(:, 1:p%npoints))
           call h5u_read(g, 'pressure', p%pressure(1:p%npoints))

@@ -106,7 +106,7 @@ contains
     d%pairs(d%n_pairs) = p
   end subroutine add_pair
 
-  !> *RIGID WALL, NAME=, POINT=x0,y0, NORMAL=nx,ny, PENALTY=, [INTERACTION=name],
+  !> *RIGID WALL, NAME=, POINT=x0,y0[,z0], NORMAL=nx,ny[,nz] (3 values in 3D), PENALTY=, [INTERACTION=name],
   !! [TANGENTIAL PENALTY=value], [STABILITY=STOP|WARN]: one data line "surface".
   subroutine read_rigid_wall(c, rd, d)
     type(card_t), intent(inout) :: c
@@ -121,10 +121,18 @@ contains
         '')
     call get_name(c, 'NAME', .true., wl%name)
     call get_interaction(c, wl%interaction, wl%tangential_penalty)
-    if (get_reals(c, 'POINT', 2, 'x0,y0', wl%point, required=.true.)) continue
-    if (get_reals(c, 'NORMAL', 2, 'nx,ny', wl%normal, required=.true.)) then
-      if (all(wl%normal == 0.0_dp)) call card_error(c, 'NORMAL=0,0 is zero (expected '// &
-          'a non-zero direction nx,ny pointing into the allowed side)')
+    if (d%ndm == 3) then
+      if (get_reals(c, 'POINT', 3, 'x0,y0,z0', wl%point, required=.true.)) continue
+      if (get_reals(c, 'NORMAL', 3, 'nx,ny,nz', wl%normal, required=.true.)) then
+        if (all(wl%normal == 0.0_dp)) call card_error(c, 'NORMAL=0,0,0 is zero (expected '// &
+            'a non-zero direction nx,ny,nz pointing into the allowed side)')
+      end if
+    else
+      if (get_reals(c, 'POINT', 2, 'x0,y0', wl%point(1:2), required=.true.)) continue
+      if (get_reals(c, 'NORMAL', 2, 'nx,ny', wl%normal(1:2), required=.true.)) then
+        if (all(wl%normal == 0.0_dp)) call card_error(c, 'NORMAL=0,0 is zero (expected '// &
+            'a non-zero direction nx,ny pointing into the allowed side)')
+      end if
     end if
     call get_positive(c, 'PENALTY', wl%penalty)
     call get_choice(c, 'STABILITY', 'STOP|WARN', kind)

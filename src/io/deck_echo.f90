@@ -374,9 +374,9 @@ contains
     end do
     do k = 1, d%n_walls
       associate (w => d%walls(k))
-        call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='//real_text(w%point(1))// &
-            ','//real_text(w%point(2))//', NORMAL='//real_text(w%normal(1))//','// &
-            real_text(w%normal(2))//', PENALTY='//real_text(w%penalty)// &
+        call put(t, '*RIGID WALL, NAME='//trim(w%name)//', POINT='// &
+            reals_text(w%point(1:d%ndm))//', NORMAL='//reals_text(w%normal(1:d%ndm))// &
+            ', PENALTY='//real_text(w%penalty)// &
             interaction_text(w%interaction, w%tangential_penalty)// &
             trim(merge(', STABILITY=WARN', '                ', w%stability_warn)))
         call put(t, trim(w%surface))
@@ -701,6 +701,17 @@ contains
       reads_back = ios == 0 .and. y == x
     end function reads_back
   end function real_text
+
+  !> The values x joined by commas, each as real_text writes it.
+  function reals_text(x) result(s)
+    real(dp), intent(in) :: x(:)
+    character(len=:), allocatable :: s
+    integer :: k
+    s = real_text(x(1))
+    do k = 2, size(x)
+      s = s//','//real_text(x(k))
+    end do
+  end function reals_text
 
   !> True when a surface of patch sides lists more than one side (echoed as data lines).
   pure logical function several_sides(s)

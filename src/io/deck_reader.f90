@@ -347,9 +347,9 @@ contains
     case ('PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE')
       what = 'trivariate NURBS patches (*PATCH, *KNOTS, *CONTROL POINTS, *ELEVATE, '// &
           '*REFINE); a 3D model takes the hexahedra C3D8, C3D20, C3D20R and C3D27'
-    case ('CONTACT PAIR', 'TIE', 'RIGID WALL')
-      what = 'contact (*CONTACT PAIR, *TIE, *RIGID WALL) between the faces of hexahedra; a '// &
-          'symmetry plane or a fixed support is a *BOUNDARY'
+    case ('TIE')
+      what = 'ties (*TIE) between the faces of hexahedra; 3D contact has *CONTACT PAIR '// &
+          '(TWO HALF PASS) and *RIGID WALL'
     case default
       what = ''
     end select

@@ -328,11 +328,11 @@ module ictus_io_deck_types
     character(len=where_len) :: where = ''
   end type contact_pair_in_t
 
-  !> *RIGID WALL.
+  !> *RIGID WALL: POINT= and NORMAL= with ndm components (z = 0 in 2D).
   type :: rigid_wall_in_t
     character(len=str_len) :: name = ''
-    real(dp) :: point(2) = 0.0_dp
-    real(dp) :: normal(2) = 0.0_dp
+    real(dp) :: point(3) = 0.0_dp
+    real(dp) :: normal(3) = 0.0_dp
     real(dp) :: penalty = 0.0_dp
     !> INTERACTION= (a *SURFACE INTERACTION; '' none) and TANGENTIAL PENALTY= (0: PENALTY).
     character(len=str_len) :: interaction = ''

@@ -10,7 +10,7 @@ module ictus_io_results
   use ictus_core_strings, only: lower
   use ictus_elements_types, only: ETYPE_IGA, element_kind_t
   use ictus_elements_library, only: etype_name, etype_nen, element_type_count, element_kind
-  use ictus_contact_contact, only: contact_t
+  use ictus_contact_contact, only: contact_t, pair_resultant
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_solver_model, only: NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
       VAR_PEEQ, VAR_RF
@@ -67,9 +67,11 @@ module ictus_io_results
     !> Contiguous work column for writing one quantity of the buffered records.
     real(dp) :: col(buffer_size)
     !> Contact pairs (lower-case names) and their buffered records: force_first (2),
-    !! force_second (2), max_pressure, max_penetration, active_points, outside_points,
-    !! friction_force (2), per record; whether each pair has friction.
+    !! force_second (3; z = 0 in 2D), max_pressure, max_penetration, active_points,
+    !! outside_points, friction_force (2), per record; whether each pair has friction; the
+    !! components of the written forces (ndm).
     integer :: npairs = 0
+    integer :: cdim = 2
     character(len=64), allocatable :: pair_name(:)
     logical, allocatable :: pair_friction(:)
     real(dp), allocatable :: cbuf(:,:,:)
@@ -224,7 +226,8 @@ contains
     integer(hid_t) :: g
     integer :: k
     r%npairs = contact%npairs
-    allocate(r%pair_name(r%npairs), r%cbuf(10, r%npairs, buffer_size))
+    r%cdim = contact%ndm
+    allocate(r%pair_name(r%npairs), r%cbuf(12, r%npairs, buffer_size))
     r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     if (r%npairs == 0) return
     call h5u_group(r%file, 'history/contact', g)
@@ -234,8 +237,8 @@ contains
     do k = 1, r%npairs
       r%pair_name(k) = trim(lower(contact%pairs(k)%name))
       call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
-      call h5u_create_ext(g, 'force_first', 2, buffer_size)
-      call h5u_create_ext(g, 'force_second', 2, buffer_size)
+      call h5u_create_ext(g, 'force_first', r%cdim, buffer_size)
+      call h5u_create_ext(g, 'force_second', r%cdim, buffer_size)
       call h5u_create_ext(g, 'max_pressure', 0, buffer_size)
       call h5u_create_ext(g, 'max_penetration', 0, buffer_size)
       call h5u_create_ext(g, 'active_points', 0, buffer_size, is_integer=.true.)
@@ -256,8 +259,9 @@ contains
     n = r%nbuf + 1
     do k = 1, r%npairs
       associate (p => contact%pairs(k))
-        r%cbuf(:, k, n) = [p%force_first, p%force_second, p%max_pressure, p%max_penetration, &
-            real(p%active_points, dp), real(p%outside_points, dp), p%fr%force]
+        r%cbuf(:, k, n) = [pair_resultant(contact, k, 1), pair_resultant(contact, k, 2), &
+            p%max_pressure, p%max_penetration, real(p%active_points, dp), &
+            real(p%outside_points, dp), p%fr%force]
       end associate
     end do
   end subroutine results_contact
@@ -455,8 +459,9 @@ contains
     call setup_views(r, model, dom)
     call grid_fields(r)
     r%npairs = contact%npairs
+    r%cdim = contact%ndm
     r%friction = contact%friction
-    allocate(r%pair_name(r%npairs), r%cbuf(10, r%npairs, buffer_size))
+    allocate(r%pair_name(r%npairs), r%cbuf(12, r%npairs, buffer_size))
     r%pair_friction = [(contact%pairs(k)%fr%on, k = 1, r%npairs)]
     do k = 1, r%npairs
       r%pair_name(k) = trim(lower(contact%pairs(k)%name))
@@ -588,20 +593,18 @@ contains
     call h5u_close_group(g)
     do k = 1, r%npairs
       call h5u_group(r%file, 'history/contact/'//trim(r%pair_name(k)), g)
-      r%col2(:, 1:n) = r%cbuf(1:2, k, 1:n)
-      call h5u_append(g, 'force_first', r%col2(:, 1:n))
-      r%col2(:, 1:n) = r%cbuf(3:4, k, 1:n)
-      call h5u_append(g, 'force_second', r%col2(:, 1:n))
-      r%col(1:n) = r%cbuf(5, k, 1:n)
+      call append_vector(g, 'force_first', r%cbuf(1:r%cdim, k, 1:n))
+      call append_vector(g, 'force_second', r%cbuf(4:3 + r%cdim, k, 1:n))
+      r%col(1:n) = r%cbuf(7, k, 1:n)
       call h5u_append(g, 'max_pressure', r%col(1:n))
-      r%col(1:n) = r%cbuf(6, k, 1:n)
+      r%col(1:n) = r%cbuf(8, k, 1:n)
       call h5u_append(g, 'max_penetration', r%col(1:n))
-      r%icol(1:n) = nint(r%cbuf(7, k, 1:n))
+      r%icol(1:n) = nint(r%cbuf(9, k, 1:n))
       call h5u_append(g, 'active_points', r%icol(1:n))
-      r%icol(1:n) = nint(r%cbuf(8, k, 1:n))
+      r%icol(1:n) = nint(r%cbuf(10, k, 1:n))
       call h5u_append(g, 'outside_points', r%icol(1:n))
       if (r%pair_friction(k)) then
-        r%col2(:, 1:n) = r%cbuf(9:10, k, 1:n)
+        r%col2(:, 1:n) = r%cbuf(11:12, k, 1:n)
         call h5u_append(g, 'friction_force', r%col2(:, 1:n))
       end if
       call h5u_close_group(g)
@@ -667,6 +670,16 @@ contains
       end do
     end if
   end subroutine results_field
+
+  !> Appends the records v (ndm, n) to the extendible dataset `name` of group g.
+  subroutine append_vector(g, name, v)
+    integer(hid_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: v(:,:)
+    real(dp) :: w(size(v, 1), size(v, 2))
+    w = v
+    call h5u_append(g, name, w)
+  end subroutine append_vector
 
   !> A node vector of a snapshot: `name` (n, 2) from x (owned nodes `gid` first), its values
   !! at the viewing samples of the patches (viz_<name>, evaluated into `xv`) and the copies

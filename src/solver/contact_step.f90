@@ -28,7 +28,7 @@ module ictus_solver_contact_step
   use ictus_parallel_repro, only: repro_dot
   use ictus_parallel_halo, only: halo_exchange
   use ictus_contact_contact, only: contact_t, contact_forces, contact_stability, PAIR_WALL, &
-      contact_commit
+      contact_commit, contact_node_mask
   use ictus_solver_domain, only: domain_t
   use ictus_solver_sparse, only: bsr_t, bsr_matvec
   use ictus_solver_mass_operator, only: mass_op_t, mass_solve, mass_set_added
@@ -43,11 +43,11 @@ module ictus_solver_contact_step
     integer :: ncn = 0
     integer, allocatable :: cnode(:)
     integer, allocatable :: lnode(:)
-    !> Exchange buffer (2, ncn); global coordinates and forces (2, nn_global), of which only
-    !! the contact nodes are kept current.
+    !> Exchange buffer (ndm, ncn); global coordinates and forces (ndm, nn_global), of which
+    !! only the contact nodes are kept current.
     real(dp), allocatable :: buf(:,:)
     real(dp), allocatable :: xg(:,:), fcg(:,:)
-    !> Consistent mass: local force vector and the correction acceleration (2, nlocal).
+    !> Consistent mass: local force vector and the correction acceleration (ndm, nlocal).
     real(dp), allocatable :: fc(:,:), ac(:,:)
     integer :: ierr = 0
     !> Bipenalty: on if some pair has eps_m > 0; added masses of the last contact
@@ -66,12 +66,10 @@ contains
     real(dp), intent(in) :: x0(:,:)
     type(domain_t), intent(in) :: dom
     logical, allocatable :: mark(:)
-    integer :: k, i, nn
+    integer :: k, i, nn, nd
     nn = size(x0, 2)
-    allocate(mark(nn), source=.false.)
-    do k = 1, c%nsurf
-      mark(c%surfaces(k)%nodes(1:c%surfaces(k)%nsn)) = .true.
-    end do
+    nd = size(x0, 1)
+    mark = contact_node_mask(c, nn)
     cs%cnode = pack([(i, i = 1, nn)], mark)
     cs%ncn = size(cs%cnode)
     allocate(cs%lnode(cs%ncn))
@@ -80,10 +78,10 @@ contains
       if (i > dom%nowned) i = 0
       cs%lnode(k) = i
     end do
-    allocate(cs%buf(2, cs%ncn))
+    allocate(cs%buf(nd, cs%ncn))
     cs%xg = x0
-    allocate(cs%fcg(2, nn), source=0.0_dp)
-    allocate(cs%fc(2, dom%nlocal), cs%ac(2, dom%nlocal), source=0.0_dp)
+    allocate(cs%fcg(nd, nn), source=0.0_dp)
+    allocate(cs%fc(nd, dom%nlocal), cs%ac(nd, dom%nlocal), source=0.0_dp)
     allocate(cs%dmg(nn), source=0.0_dp)
     allocate(cs%dm_node(cs%ncn), source=0.0_dp)
   end subroutine contact_step_init

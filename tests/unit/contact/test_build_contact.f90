@@ -155,8 +155,8 @@ contains
     d%n_walls = 1
     allocate(d%walls(1))
     d%walls(1)%name = 'FLOOR'
-    d%walls(1)%point = [0.0_dp, -5.0_dp]
-    d%walls(1)%normal = [0.0_dp, 3.0_dp]
+    d%walls(1)%point(1:2) = [0.0_dp, -5.0_dp]
+    d%walls(1)%normal(1:2) = [0.0_dp, 3.0_dp]
     d%walls(1)%penalty = 1.0e5_dp
     d%walls(1)%surface = 'ARC'
     if (bad) d%walls(1)%surface = 'NOWHERE'

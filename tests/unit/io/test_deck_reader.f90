@@ -217,8 +217,8 @@ contains
           'fe: STABILITY=WARN on pair 1, STOP (default) on pair 2')
     end if
     call t%equal_int(d%n_walls, 1, 'fe: rigid walls')
-    if (d%n_walls == 1) call t%true(all(d%walls(1)%point == [0.0_dp, -0.5_dp]) .and. &
-        all(d%walls(1)%normal == [0.0_dp, 1.0_dp]) .and. d%walls(1)%penalty == 1.0e7_dp .and. &
+    if (d%n_walls == 1) call t%true(all(d%walls(1)%point(1:2) == [0.0_dp, -0.5_dp]) .and. &
+        all(d%walls(1)%normal(1:2) == [0.0_dp, 1.0_dp]) .and. d%walls(1)%penalty == 1.0e7_dp .and. &
         d%walls(1)%surface == 'LOWER_TOP' .and. d%walls(1)%stability_warn, &
         'fe: wall (stability=warn)')
     call t%equal_int(d%n_masses, 2, 'fe: masses')
