@@ -296,6 +296,10 @@ contains
         else
           call need(t, d%surfaces(s)%elset(k), NAME_ELSET, 'element set', &
               d%surfaces(s)%entry_where(k), '*SURFACE')
+          if (d%ndm == 3 .and. any(d%patches(1:d%n_patches)%name == d%surfaces(s)%elset(k))) &
+              call input_error(d%surfaces(s)%entry_where(k), '*SURFACE: not yet in 3D: '// &
+              'faces of the trivariate patch '//trim(d%surfaces(s)%elset(k))//' (its spans '// &
+              'have no faces S1..S6; TYPE=ELEMENT takes the faces of hexahedra)')
         end if
       end do
     end do

@@ -33,7 +33,8 @@
    processed deck re-run (vcheck.check_ranks_and_restart, vcheck.processed_deck_reruns).
 5. The XDMF sidecar: meshio reads the viewing samples as one block of hexahedra with the
    3-component displacement of /fields/<step>/viz_displacement; every cell has a positive
-   volume.
+   volume. A model of hexahedra (C3D8) and a patch side by side: both in free flight, mass
+   2 rho, and meshio reads each block's own sidecar.
 """
 import os
 import re
@@ -278,6 +279,45 @@ def xdmf(args, chk):
     chk.close(float(np.sum(vol)), np.pi / 3.0, 2e-2, "xdmf: the cells fill the quarter-ball")
 
 
+def mixed(args, chk):
+    """Hexahedra and a trivariate patch in one 3D model: both in free flight, each shown as
+    its own XDMF block."""
+    import meshio
+    cp = "".join(f"{i + 2.0!r}, {float(j)!r}, {float(k)!r}, 1.0\n"
+                 for k in range(2) for j in range(2) for i in range(2))
+    text = ("*HEADING\nhexahedra and a trivariate patch\n*ANALYSIS, TYPE=3D\n"
+            + vcheck.material_block() + vcheck.box_mesh(type="C3D8", nx=2, ny=2, nz=2, lx=1,
+                                                        ly=1, lz=1)
+            + "*PATCH, NAME=BLOCK, MATERIAL=MAT, DEGREE=1,1,1, SIZE=2,2,2\n"
+            + "".join(f"*KNOTS, DIRECTION={d}\n0, 0, 1, 1\n" for d in (1, 2, 3))
+            + "*CONTROL POINTS\n" + cp
+            + "*ELEVATE, PATCH=BLOCK, DEGREE=2,2,2\n*REFINE, PATCH=BLOCK, SUBDIVIDE=2,2,2\n"
+            + f"*INITIAL CONDITIONS, TYPE=VELOCITY\nBODY, 3, {-V!r}\nBLOCK, 3, {-V!r}\n"
+            + "*MASS, TYPE=HRZ, INTEGRATION=2X2\n*STEP\n*DYNAMIC, EXPLICIT\n0, 0.01\n"
+            + "*OUTPUT, FIELD, VARIABLES=U,V,S,MISES\n*END STEP\n")
+    path, out, r = run(args, "mixed", text)
+    last = r.field_steps()[-1]
+    t = r.field_time(last)
+    u = np.concatenate([r.field(last, "displacement"), r.field(last, "viz_displacement")])
+    chk.below(float(np.max(np.abs(u - [0.0, 0.0, -V * t]))) / (V * t), 1e-12,
+              "mixed: C3D8 and a patch in free flight, every node and sample at -v t e_z")
+    chk.close(float(np.sum(r.model("mass"))), 2.0 * RHO, 1e-14,
+              "mixed: total mass of the unit cube of C3D8 and the unit cube patch")
+    blocks = {}
+    for name in ("c3d8", "iga"):
+        with meshio.xdmf.TimeSeriesReader(path.replace(".inp", f".{name}.xdmf")) as reader:
+            points, cells = reader.read_points_cells()
+            _, point_data, cell_data = reader.read_data(reader.num_steps - 1)
+        blocks[name] = (len(points), [c.type for c in cells], point_data["displacement"].shape,
+                        cell_data["stress"][0].shape)
+    # the C3D8 block's points are all the model's nodes: 27 of the box, 4^3 control points
+    chk.true(blocks == {"c3d8": (27 + 64, ["hexahedron"], (91, 3), (8, 6)),
+                        "iga": (8 * 125, ["hexahedron"], (1000, 3), (8 * 64, 6))},
+             "mixed: meshio reads the C3D8 block (the model's 91 nodes, 8 cells) and the "
+             "patch's viewing block (8 elements of 125 samples, 64 cells each), with "
+             "6-component cell stresses")
+
+
 def main():
     args = vcheck.arguments()
     chk = vcheck.Checker("nurbs3d")
@@ -286,6 +326,7 @@ def main():
     free_flight(args, chk)
     held_ball(args, chk)
     xdmf(args, chk)
+    mixed(args, chk)
     chk.finish()
 
 
