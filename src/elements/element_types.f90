@@ -6,8 +6,8 @@ module ictus_elements_types
   private
   public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, ETYPE_C3D20, ETYPE_C3D27, &
       ETYPE_IGA3, ETYPE_BUILTIN, etype_is_nurbs, elem_shape_t, element_kind_t, shape_at_i, &
-      rule_i, add_alias, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
-      KERNEL_SOLID3D
+      rule_i, add_alias, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
+      TASK_ROTATION, KERNEL_SOLID2D, KERNEL_SOLID3D
 
   !> Lagrange/serendipity quadrilaterals from *ELEMENT, NURBS (Bezier-extracted) spans, and
   !! the hexahedra C3D8 (trilinear), C3D20 (serendipity) and C3D27 (triquadratic).

@@ -17,8 +17,8 @@ module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, &
-      ETYPE_C3D20, ETYPE_C3D27, ETYPE_IGA3, ETYPE_BUILTIN, elem_shape_t, element_kind_t, TASK_MASS, &
-      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
+      ETYPE_C3D20, ETYPE_C3D27, ETYPE_IGA3, ETYPE_BUILTIN, elem_shape_t, element_kind_t, &
+      TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
       KERNEL_SOLID3D
   use ictus_elements_quadrature, only: gauss_rule_2d, gauss_rule_3d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind

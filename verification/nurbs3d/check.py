@@ -113,9 +113,9 @@ def free_flight(args, chk):
         t = r.field_time(last)
         for name in ("displacement", "viz_displacement"):
             u = r.field(last, name)
+            where = "control point" if name == "displacement" else "viewing sample"
             chk.below(float(np.max(np.abs(u - [0.0, 0.0, -V * t]))) / (V * t), 1e-12,
-                      f"free flight {mass}: every {'control point' if name[0] == 'd' else 'viewing sample'} "
-                      "at u = -v t e_z")
+                      f"free flight {mass}: every {where} at u = -v t e_z")
         etot = r.history("energy/total")
         chk.below(float(np.max(np.abs(etot - RHO * np.pi / 6.0 * V * V))) / etot[0], 1e-6,
                   f"free flight {mass}: kinetic energy m v^2/2 (m of the 2 x 4 x 2 spans, "
