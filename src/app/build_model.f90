@@ -13,18 +13,21 @@ module ictus_app_build_model
   use ictus_geometry_sides, only: SIDE_NONE
   use ictus_geometry_patch, only: patch_elevate, patch_refine, patch_build_elements, &
       patch_side_points
-  use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA
+  use ictus_geometry_volume, only: volume_side_points
+  use ictus_elements_types, only: ETYPE_Q8, ETYPE_IGA, ETYPE_IGA3
   use ictus_elements_library, only: etype_name, element_default_ngauss
   use ictus_mass_types, only: MASS_HRZ, MASS_ALPHA, HRZ_FULL, MASS_CONSISTENT
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D
   use ictus_materials_material, only: material_make_law, material_t
-  use ictus_solver_model, only: model_t, model_kinematics, patch_node, patch_nodes, FORCE_AUTO, &
+  use ictus_solver_model, only: model_t, model_kinematics, patch_node, patch_nodes, patch_ncp, &
+      patch_name, FORCE_AUTO, &
       FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, MASS_SOLVER_CHOLESKY, &
       MASS_SOLVER_CORRECTOR, MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, VAR_PEEQ
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
   use ictus_app_merge_patches, only: merge_patch_points
+  use ictus_app_build_volumes, only: build_volumes
   implicit none
   private
   public :: build_model, element_where, resolve_node_set, resolve_elem_set, patch_index
@@ -161,12 +164,16 @@ contains
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
     integer :: ip, k, j
+    if (model%ndm == 3) then
+      call build_volumes(deck, model, max_degree)
+      return
+    end if
     model%npatch = deck%n_patches
     allocate(model%patches(model%npatch), model%patch_offset(model%npatch))
     do ip = 1, model%npatch
       associate (pin => deck%patches(ip))
-        call model%patches(ip)%init(pin%name, pin%degree, pin%size, pin%knots1, pin%knots2, &
-            pin%cp)
+        call model%patches(ip)%init(pin%name, pin%degree(1:2), pin%size(1:2), pin%knots1, &
+            pin%knots2, pin%cp)
       end associate
     end do
     do k = 1, deck%n_patch_ops
@@ -175,12 +182,12 @@ contains
       associate (op => deck%patch_ops(k), pt => model%patches(j))
         select case (op%kind)
         case (OP_ELEVATE)
-          if (any(op%values < pt%p)) then
+          if (any(op%values(1:2) < pt%p)) then
             call input_error(op%where, '*ELEVATE: DEGREE must not be below the current '// &
                 'degree '//str(pt%p(1))//','//str(pt%p(2)))
             cycle
           end if
-          if (any(op%values > max_degree)) then
+          if (any(op%values(1:2) > max_degree)) then
             call input_error(op%where, '*ELEVATE: DEGREE='//str(op%values(1))//','// &
                 str(op%values(2))//' is above the largest degree ictus takes, '// &
                 str(max_degree))
@@ -188,15 +195,15 @@ contains
           end if
           ! each of the at most n - p spans gains q - p control points per direction
           if (.not. patch_fits(op%where, '*ELEVATE', pt%name, &
-              int(pt%n, i8) + int(op%values - pt%p, i8)*int(pt%n - pt%p, i8), op%values, &
-              other_patches_bytes(model, j))) cycle
-          call patch_elevate(pt, op%values)
+              int(pt%n, i8) + int(op%values(1:2) - pt%p, i8)*int(pt%n - pt%p, i8), &
+              op%values(1:2), other_patches_bytes(model, j))) cycle
+          call patch_elevate(pt, op%values(1:2))
         case (OP_REFINE)
           ! each of the at most n - p spans gains k - 1 control points per direction
           if (.not. patch_fits(op%where, '*REFINE', pt%name, &
-              int(pt%n, i8) + int(op%values - 1, i8)*int(pt%n - pt%p, i8), pt%p, &
+              int(pt%n, i8) + int(op%values(1:2) - 1, i8)*int(pt%n - pt%p, i8), pt%p, &
               other_patches_bytes(model, j))) cycle
-          call patch_refine(pt, op%values)
+          call patch_refine(pt, op%values(1:2))
         end select
       end associate
     end do
@@ -268,7 +275,7 @@ contains
     integer :: i
     patch_index = 0
     do i = 1, model%npatch
-      if (upper(trim(model%patches(i)%name)) == upper(trim(name))) then
+      if (upper(patch_name(model, i)) == upper(trim(name))) then
         patch_index = i
         return
       end if
@@ -289,7 +296,7 @@ contains
     n = nfe
     do ip = 1, model%npatch
       model%patch_offset(ip) = n
-      n = n + model%patches(ip)%n(1)*model%patches(ip)%n(2)
+      n = n + patch_ncp(model, ip)
     end do
     model%nn = n
     if (any(deck%patches(1:model%npatch)%merge)) then
@@ -311,16 +318,19 @@ contains
     model%weight = 1.0_dp
     allocate(seen(model%nn), source=.false.)
     do ip = 1, model%npatch
-      associate (pt => model%patches(ip))
-        do k = 1, pt%n(1)*pt%n(2)
-          g = patch_node(model, ip, k)
-          if (seen(g)) cycle
-          seen(g) = .true.
-          model%x0(:, g) = pt%cp(1:2, k)
-          model%weight(g) = pt%cp(3, k)
-          model%node_id(g) = next_id + (g - nfe - 1)
-        end do
-      end associate
+      do k = 1, patch_ncp(model, ip)
+        g = patch_node(model, ip, k)
+        if (seen(g)) cycle
+        seen(g) = .true.
+        if (model%ndm == 3) then
+          model%x0(:, g) = model%volumes(ip)%cp(1:3, k)
+          model%weight(g) = model%volumes(ip)%cp(4, k)
+        else
+          model%x0(:, g) = model%patches(ip)%cp(1:2, k)
+          model%weight(g) = model%patches(ip)%cp(3, k)
+        end if
+        model%node_id(g) = next_id + (g - nfe - 1)
+      end do
     end do
     call id_map_init(node_map, model%node_id)
   end subroutine build_nodes
@@ -330,7 +340,7 @@ contains
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
     type(id_map_t), intent(in) :: node_map
-    integer :: nel, ib, k, e, a, ip, ie, nen_max, m, g
+    integer :: nel, ib, k, e, a, ip, ie, nen_max, m, g, pe, pn, pp(3)
     integer, allocatable :: nodes(:)
     nel = 0
     nen_max = 0
@@ -339,8 +349,9 @@ contains
       nen_max = max(nen_max, deck%blocks(ib)%nen)
     end do
     do ip = 1, model%npatch
-      nel = nel + model%patches(ip)%nel(1)*model%patches(ip)%nel(2)
-      nen_max = max(nen_max, model%patches(ip)%nen)
+      call patch_spans(model, ip, pe, pn, pp)
+      nel = nel + pe
+      nen_max = max(nen_max, pn)
     end do
     model%nel = nel
     model%nen_max = nen_max
@@ -387,25 +398,46 @@ contains
       if (m == 0) call input_error(deck%patches(ip)%where, '*PATCH: MATERIAL='// &
           trim(deck%patches(ip)%material)//' is not defined by a *MATERIAL card')
       nodes = patch_nodes(model, ip)
-      associate (pt => model%patches(ip))
-        do ie = 1, pt%nel(1)*pt%nel(2)
-          e = e + 1
-          model%etype(e) = ETYPE_IGA
-          model%nen(e) = pt%nen
-          model%mat(e) = max(m, 1)
-          model%gauss(:, e) = pt%p + 1
-          model%mean_dil(e) = mean_dilatation_of(deck%patches(ip)%dilatation, &
-              model%materials(max(m, 1)), model%force_kind)
-          model%elem_id(e) = ie
-          model%patch(e) = ip
-          model%patch_elem(e) = ie
-          model%conn(1:pt%nen, e) = nodes(pt%ien(:, ie))
-          write(origin%where(e), '(a,i0)') trim(deck%patches(ip)%where)//': patch '// &
-              trim(pt%name)//', element ', ie
-        end do
-      end associate
+      call patch_spans(model, ip, pe, pn, pp)
+      do ie = 1, pe
+        e = e + 1
+        model%etype(e) = merge(ETYPE_IGA3, ETYPE_IGA, model%ndm == 3)
+        model%nen(e) = pn
+        model%mat(e) = max(m, 1)
+        ! p + 1 Gauss points per direction
+        model%gauss(:, e) = pp(1:model%ndm) + 1
+        model%mean_dil(e) = mean_dilatation_of(deck%patches(ip)%dilatation, &
+            model%materials(max(m, 1)), model%force_kind)
+        model%elem_id(e) = ie
+        model%patch(e) = ip
+        model%patch_elem(e) = ie
+        if (model%ndm == 3) then
+          model%conn(1:pn, e) = nodes(model%volumes(ip)%ien(:, ie))
+        else
+          model%conn(1:pn, e) = nodes(model%patches(ip)%ien(:, ie))
+        end if
+        write(origin%where(e), '(a,i0)') trim(deck%patches(ip)%where)//': patch '// &
+            patch_name(model, ip)//', element ', ie
+      end do
     end do
   end subroutine build_elements
+
+  !> Elements ne, control points per element nen and degrees p (p(3) = 0 in 2D) of patch ip.
+  subroutine patch_spans(model, ip, ne, nen, p)
+    type(model_t), intent(in) :: model
+    integer, intent(in) :: ip
+    integer, intent(out) :: ne, nen, p(3)
+    p = 0
+    if (model%ndm == 3) then
+      ne = product(model%volumes(ip)%nel)
+      nen = model%volumes(ip)%nen
+      p = model%volumes(ip)%p
+    else
+      ne = product(model%patches(ip)%nel)
+      nen = model%patches(ip)%nen
+      p(1:2) = model%patches(ip)%p
+    end if
+  end subroutine patch_spans
 
   !> Whether an element shares its mean dilatation: DILATATION=MEAN (2) or FULL (1) as the
   !! deck says, else (AUTO) where its law is (nearly) isochoric, unless the deck asks for the
@@ -559,7 +591,11 @@ contains
           if (ip == 0) then
             call input_error(s%where, '*NSET: PATCH='//trim(s%patch)//' is not defined')
           else
-            call patch_side_points(model%patches(ip), s%side, idx, n)
+            if (model%ndm == 3) then
+              call volume_side_points(model%volumes(ip), s%side, idx, n)
+            else
+              call patch_side_points(model%patches(ip), s%side, idx, n)
+            end if
             nodes = patch_nodes(model, ip)
             mask(nodes(idx(1:n))) = .true.
             deallocate(idx)

@@ -14,7 +14,7 @@ module ictus_app_driver
   use ictus_core_ticker, only: ticker_t, ticker_start
   use ictus_parallel_env, only: env_size, allreduce_max, allgather_int, allgatherv_real, &
       env_node_size
-  use ictus_elements_types, only: ETYPE_Q8, ETYPE_C3D20, ETYPE_IGA
+  use ictus_elements_types, only: ETYPE_Q8, ETYPE_C3D20, etype_is_nurbs
   use ictus_elements_library, only: etype_name
   use ictus_mass_types, only: mass_name, MASS_ROW_SUM
   use ictus_solver_model, only: model_t
@@ -292,8 +292,9 @@ contains
 
   !> The viewing samples of the NURBS elements (src/io/iga_viz.f90) must fit in memory: while
   !! the results file is opened every rank forms the coordinates of all sample points and
-  !! the cells (16 bytes each), and for the run it keeps, per sample of the elements it
-  !! evaluates, a row number and the displacement and velocity (36 bytes); that times the
+  !! the cells (16 bytes each in 2D; 24 and 32 in 3D), and for the run it keeps, per sample
+  !! of the elements it evaluates, a row number and the displacement and velocity (36 bytes;
+  !! 52 in 3D); that times the
   !! ranks of a node against the memory available. Refused at *OUTPUT, FIELD (or *STEP)
   !! before anything is written, with the same decision on all ranks.
   subroutine check_viz_memory(deck, model, dom)
@@ -308,11 +309,13 @@ contains
     call iga_viz_count(model, model%viz_samples, ns, nc)
     mine = 0
     do e = 1, model%nel
-      if (model%etype(e) /= ETYPE_IGA) cycle
+      if (.not. etype_is_nurbs(model%etype(e))) cycle
       if (dom%owner(model%conn(1, e)) /= dom%rank) cycle
-      mine = mine + int(iga_viz_samples(model, model%patch(e), model%viz_samples), i8)**2
+      mine = mine + int(iga_viz_samples(model, model%patch(e), model%viz_samples), &
+          i8)**model%ndm
     end do
-    need = 16.0_dp*real(ns + nc, dp) + 36.0_dp*real(mine, dp)
+    need = 8.0_dp*model%ndm*real(ns, dp) + 4.0_dp*2**model%ndm*real(nc, dp) + &
+        (4.0_dp + 16.0_dp*model%ndm)*real(mine, dp)
     mem(1) = need*env_node_size()
     mem(2) = -huge(1.0_dp)
     avail = available_memory()

@@ -3,7 +3,7 @@ module ictus_core_strings
   use ictus_core_kinds, only: dp, i8
   implicit none
   private
-  public :: upper, lower, str, join_ids, command_arg
+  public :: upper, lower, str, join_ids, command_arg, str_list
 
   !> Converts a number to its shortest readable text.
   interface str
@@ -99,6 +99,19 @@ contains
     end do
     if (size(ids) > max_shown) r = r//' and '//str_int(size(ids) - max_shown)//' more'
   end function join_ids
+
+  !> Integers as a parameter value of a deck card, comma separated without blanks: "2,2,3".
+  pure function str_list(v) result(r)
+    integer, intent(in) :: v(:)
+    character(len=:), allocatable :: r
+    integer :: i
+    r = ''
+    do i = 1, size(v)
+      if (i > 1) r = r//','
+      r = r//str_int(v(i))
+    end do
+  end function str_list
+
   !> Command-line argument k, whatever its length.
   function command_arg(k) result(a)
     integer, intent(in) :: k

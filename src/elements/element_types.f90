@@ -5,9 +5,9 @@ module ictus_elements_types
   implicit none
   private
   public :: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, ETYPE_C3D20, ETYPE_C3D27, &
-      ETYPE_BUILTIN, elem_shape_t, element_kind_t, shape_at_i, rule_i, add_alias, TASK_MASS, &
-      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
-      KERNEL_SOLID3D
+      ETYPE_IGA3, ETYPE_BUILTIN, etype_is_nurbs, elem_shape_t, element_kind_t, shape_at_i, &
+      rule_i, add_alias, TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, &
+      TASK_ROTATION, KERNEL_SOLID2D, KERNEL_SOLID3D
 
   !> Lagrange/serendipity quadrilaterals from *ELEMENT, NURBS (Bezier-extracted) spans, and
   !! the hexahedra C3D8 (trilinear), C3D20 (serendipity) and C3D27 (triquadratic).
@@ -15,7 +15,9 @@ module ictus_elements_types
   !! time (`element_register`) takes the next code after ETYPE_BUILTIN.
   integer, parameter :: ETYPE_Q4 = 1, ETYPE_Q8 = 2, ETYPE_Q9 = 3, ETYPE_IGA = 4
   integer, parameter :: ETYPE_C3D8 = 5, ETYPE_C3D20 = 6, ETYPE_C3D27 = 7
-  integer, parameter :: ETYPE_BUILTIN = 7
+  !> The Bezier-extracted span of a trivariate NURBS patch (3D; ETYPE_IGA is the bivariate one).
+  integer, parameter :: ETYPE_IGA3 = 8
+  integer, parameter :: ETYPE_BUILTIN = 8
 
   !> Tasks of the element routine (`element_routine`): the scalar consistent mass, the internal
   !! force of the material law, the small-strain stiffness of a linear law, the stress at the
@@ -115,4 +117,10 @@ contains
     k%alias_analysis(k%naliases) = analysis
     k%alias_gauss(k%naliases) = gauss
   end subroutine add_alias
+  !> Whether an element type is a NURBS span (bivariate ETYPE_IGA or trivariate ETYPE_IGA3),
+  !! whose nodes and shape data come from its patch.
+  pure logical function etype_is_nurbs(etype)
+    integer, intent(in) :: etype
+    etype_is_nurbs = etype == ETYPE_IGA .or. etype == ETYPE_IGA3
+  end function etype_is_nurbs
 end module ictus_elements_types

@@ -8,11 +8,11 @@
 module ictus_elements_iga
   use ictus_core_kinds, only: dp
   use ictus_geometry_bezier, only: bernstein
-  use ictus_elements_types, only: elem_shape_t, element_kind_t, KERNEL_SOLID2D
+  use ictus_elements_types, only: elem_shape_t, element_kind_t, KERNEL_SOLID2D, KERNEL_SOLID3D
   use ictus_elements_quadrature, only: gauss_legendre
   implicit none
   private
-  public :: iga_shape_data, iga_basis_at, iga_kind, iga3_shape_data, iga3_basis_at
+  public :: iga_shape_data, iga_basis_at, iga_kind, iga3_kind, iga3_shape_data, iga3_basis_at
 
 contains
 
@@ -28,6 +28,20 @@ contains
     k%nface = 4
     k%kernel = KERNEL_SOLID2D
   end function iga_kind
+
+  !> The span of a trivariate patch as an element type: the 3D solid kernel (as the
+  !! hexahedra), nodes, Gauss rule and shape functions from the patch's degrees span by span
+  !! (iga3_shape_data); its six faces are the faces of the span box; results show it on
+  !! viewing cells (hexahedra).
+  function iga3_kind() result(k)
+    type(element_kind_t) :: k
+    k%name = 'IGA'
+    k%xdmf = 'Hexahedron'
+    k%ndm = 3
+    k%ncorner = 8
+    k%nface = 6
+    k%kernel = KERNEL_SOLID3D
+  end function iga3_kind
 
   !> NURBS basis and parent derivatives at all Gauss points of one element.
   !! @param p degrees (2); @param c1e extraction operator of direction 1 (p1+1, p1+1);

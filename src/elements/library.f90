@@ -17,13 +17,13 @@ module ictus_elements_library
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: upper
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, ETYPE_IGA, ETYPE_C3D8, &
-      ETYPE_C3D20, ETYPE_C3D27, ETYPE_BUILTIN, elem_shape_t, element_kind_t, TASK_MASS, &
-      TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
+      ETYPE_C3D20, ETYPE_C3D27, ETYPE_IGA3, ETYPE_BUILTIN, elem_shape_t, element_kind_t, &
+      TASK_MASS, TASK_FORCE, TASK_STIFFNESS, TASK_STRESS, TASK_JACOBIAN, TASK_ROTATION, KERNEL_SOLID2D, &
       KERNEL_SOLID3D
   use ictus_elements_quadrature, only: gauss_rule_2d, gauss_rule_3d
   use ictus_elements_lagrange, only: q4_kind, q8_kind, q9_kind
   use ictus_elements_hexahedra, only: c3d8_kind, c3d20_kind, c3d27_kind
-  use ictus_elements_iga, only: iga_kind
+  use ictus_elements_iga, only: iga_kind, iga3_kind
   use ictus_elements_solid2d, only: solid2d_stiffness, solid2d_mass, solid2d_stress, &
       solid2d_min_detj, solid2d_geometry, solid2d_force, solid2d_rotation
   use ictus_elements_solid3d, only: solid3d_stiffness, solid3d_mass, solid3d_stress, &
@@ -78,6 +78,7 @@ contains
     table(ETYPE_C3D8) = c3d8_kind()
     table(ETYPE_C3D20) = c3d20_kind()
     table(ETYPE_C3D27) = c3d27_kind()
+    table(ETYPE_IGA3) = iga3_kind()
     ntypes = ETYPE_BUILTIN
   end subroutine fill_table
 

@@ -12,9 +12,12 @@ module ictus_geometry_volume
   use ictus_geometry_bezier, only: bezier_extraction_1d
   use ictus_geometry_refine, only: refine_knot_vector, degree_elevate_curve
   use ictus_geometry_patch, only: new_knots, span_ranges
+  use ictus_geometry_sides, only: SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ZETA0, &
+      SIDE_ZETA1, SIDE_ALL
   implicit none
   private
-  public :: volume_t, volume_init, volume_refine, volume_elevate, volume_build_elements
+  public :: volume_t, volume_init, volume_refine, volume_elevate, volume_build_elements, &
+      volume_side_points, volume_elem_ijk
 
   type :: volume_t
     character(len=str_len) :: name = ''
@@ -93,6 +96,55 @@ contains
     integer, intent(in) :: n(3), i1, i2, i3
     index3 = i1 + n(1)*(i2 - 1) + n(1)*n(2)*(i3 - 1)
   end function index3
+
+  !> The span indices (i1, i2, i3) of element e (e = i1 + nel1 (i2 - 1) + nel1 nel2 (i3 - 1)).
+  pure function volume_elem_ijk(v, e) result(ijk)
+    type(volume_t), intent(in) :: v
+    integer, intent(in) :: e
+    integer :: ijk(3)
+    ijk(1) = mod(e - 1, v%nel(1)) + 1
+    ijk(2) = mod((e - 1)/v%nel(1), v%nel(2)) + 1
+    ijk(3) = (e - 1)/(v%nel(1)*v%nel(2)) + 1
+  end function volume_elem_ijk
+
+  !> Control points (local indices, increasing) on a face of the volume: XI0/XI1 where the
+  !! direction-1 index is first/last, ETA0/ETA1 for direction 2, ZETA0/ZETA1 for direction 3;
+  !! SIDE_ALL gives every control point on the boundary once. nidx = 0 for any other side.
+  subroutine volume_side_points(v, side, idx, nidx)
+    type(volume_t), intent(in) :: v
+    integer, intent(in) :: side
+    integer, allocatable, intent(out) :: idx(:)
+    integer, intent(out) :: nidx
+    logical, allocatable :: on(:)
+    integer :: i1, i2, i3, k
+    allocate(on(product(v%n)), source=.false.)
+    do i3 = 1, v%n(3)
+      do i2 = 1, v%n(2)
+        do i1 = 1, v%n(1)
+          k = index3(v%n, i1, i2, i3)
+          select case (side)
+          case (SIDE_XI0)
+            on(k) = i1 == 1
+          case (SIDE_XI1)
+            on(k) = i1 == v%n(1)
+          case (SIDE_ETA0)
+            on(k) = i2 == 1
+          case (SIDE_ETA1)
+            on(k) = i2 == v%n(2)
+          case (SIDE_ZETA0)
+            on(k) = i3 == 1
+          case (SIDE_ZETA1)
+            on(k) = i3 == v%n(3)
+          case (SIDE_ALL)
+            on(k) = i1 == 1 .or. i1 == v%n(1) .or. i2 == 1 .or. i2 == v%n(2) .or. &
+                i3 == 1 .or. i3 == v%n(3)
+          end select
+        end do
+      end do
+    end do
+    idx = pack([(k, k = 1, size(on))], on)
+    nidx = size(idx)
+  end subroutine volume_side_points
 
   !> Subdivides every non-empty knot span of each direction d into k(d) equal spans (knot
   !! insertion; k(d) = 1 leaves the direction), then rebuilds the elements.

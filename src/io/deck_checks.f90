@@ -15,7 +15,7 @@
 module ictus_io_deck_checks
   use ictus_core_kinds, only: dp, str_len
   use ictus_core_errors, only: input_error
-  use ictus_core_strings, only: str
+  use ictus_core_strings, only: str, str_list
   use ictus_io_deck_types, only: deck_t, material_in_t, SET_NODE, SET_ELEMENT, SIDE_NONE, &
       SURF_PATCH, OP_ELEVATE, where_len, ANALYSIS_PLANE_STRESS, DLOAD_PRESSURE
   implicit none
@@ -296,30 +296,36 @@ contains
         else
           call need(t, d%surfaces(s)%elset(k), NAME_ELSET, 'element set', &
               d%surfaces(s)%entry_where(k), '*SURFACE')
+          if (d%ndm == 3 .and. any(d%patches(1:d%n_patches)%name == d%surfaces(s)%elset(k))) &
+              call input_error(d%surfaces(s)%entry_where(k), '*SURFACE: not yet in 3D: '// &
+              'faces of the trivariate patch '//trim(d%surfaces(s)%elset(k))//' (its spans '// &
+              'have no faces S1..S6; TYPE=ELEMENT takes the faces of hexahedra)')
         end if
       end do
     end do
   end subroutine check_nodes_elements
 
-  !> Each patch has knots in both directions and control points; *ELEVATE / *REFINE refer
-  !! to known patches and never lower the degree.
+  !> Each patch has knots in every direction (two in 2D, three in 3D) and control points;
+  !! *ELEVATE / *REFINE refer to known patches and never lower the degree.
   subroutine check_patches(d, skip)
     type(deck_t), intent(in) :: d
     integer, intent(in) :: skip
     integer, allocatable :: deg(:,:)
-    integer :: k, p, dir
+    integer :: k, p, dir, nd
 
-    allocate(deg(2, d%n_patches))
+    nd = d%ndm
+    allocate(deg(nd, d%n_patches))
     do p = 1, d%n_patches
-      deg(:, p) = d%patches(p)%degree
-      do dir = 1, 2
+      deg(:, p) = d%patches(p)%degree(1:nd)
+      do dir = 1, nd
         if (.not. d%patches(p)%has_knots(dir)) call input_error(d%patches(p)%where, &
             '*PATCH: patch '//trim(d%patches(p)%name)//' has no *KNOTS, DIRECTION='// &
             str(dir)//' card (expected its knot vector)')
       end do
       if (.not. d%patches(p)%has_cp) call input_error(d%patches(p)%where, '*PATCH: patch '// &
-          trim(d%patches(p)%name)//' has no *CONTROL POINTS card (expected n1*n2 lines '// &
-          '"x, y, w")')
+          trim(d%patches(p)%name)//' has no *CONTROL POINTS card (expected '// &
+          trim(merge('n1*n2*n3 lines "x, y, z, w"', 'n1*n2 lines "x, y, w"      ', nd == 3))// &
+          ')')
     end do
     do k = 1, d%n_patch_ops
       associate (op => d%patch_ops(k))
@@ -335,16 +341,17 @@ contains
           cycle
         end if
         if (op%kind /= OP_ELEVATE) cycle
-        if (any(op%values < deg(:, p))) then
-          call input_error(op%where, '*ELEVATE: DEGREE='//str(op%values(1))//','// &
-              str(op%values(2))//' is below the current degree '//str(deg(1, p))//','// &
-              str(deg(2, p))//' of patch '//trim(op%patch)//' (expected q_i >= p_i)')
+        if (any(op%values(1:nd) < deg(:, p))) then
+          call input_error(op%where, '*ELEVATE: DEGREE='//str_list(op%values(1:nd))// &
+              ' is below the current degree '//str_list(deg(:, p))//' of patch '// &
+              trim(op%patch)//' (expected q_i >= p_i)')
         else
-          deg(:, p) = op%values
+          deg(:, p) = op%values(1:nd)
         end if
       end associate
     end do
   end subroutine check_patches
+
 
   !> Set references are defined (with the right kind) and do not form cycles.
   subroutine check_sets(d, t)
@@ -510,12 +517,27 @@ contains
       if (d%dloads(k)%kind == DLOAD_PRESSURE) then
         call need(t, d%dloads(k)%target, NAME_SURFACE, 'surface', d%dloads(k)%where, &
             '*DLOAD, P')
+        if (d%ndm == 3) call no_patch_pressure(d, d%dloads(k)%target, d%dloads(k)%where)
       else
         call need(t, d%dloads(k)%target, ior(NAME_ELSET, NAME_PATCH), 'element set or patch', &
             d%dloads(k)%where, '*DLOAD, GRAV')
       end if
     end do
   end subroutine check_loads
+
+  !> In 3D a pressure (*DLOAD, P) acts on the faces of hexahedra only: reports a surface of
+  !! patch sides (the faces of a trivariate NURBS patch) as not yet in 3D.
+  subroutine no_patch_pressure(d, name, where)
+    type(deck_t), intent(in) :: d
+    character(len=*), intent(in) :: name, where
+    integer :: s
+    do s = 1, d%n_surfaces
+      if (d%surfaces(s)%name /= name .or. d%surfaces(s)%kind /= SURF_PATCH) cycle
+      call input_error(where, '*DLOAD, P: not yet in 3D: pressure on the faces of a '// &
+          'trivariate NURBS patch (surface '//trim(name)//' lists patch sides); in 3D a '// &
+          'pressure acts on the faces S1..S6 of hexahedra (*SURFACE, TYPE=ELEMENT)')
+    end do
+  end subroutine no_patch_pressure
 
   !> Reports AMPLITUDE=name of a card (at `where`) when no *AMPLITUDE defines it.
   subroutine need_amplitude(d, name, where, card)

@@ -15,7 +15,7 @@
 !! go to that group as exact binary data (`ictus_io_deck_record`).
 module ictus_io_deck_echo
   use ictus_core_kinds, only: dp
-  use ictus_core_strings, only: str
+  use ictus_core_strings, only: str, str_list
   use ictus_io_deck_types, only: deck_t, set_in_t, material_in_t, ANALYSIS_PLANE_STRESS, &
       etype_name, surface_in_t, &
       SET_NODE, SIDE_NONE, side_name, SURF_PATCH, MASS_HRZ, MASS_ALPHA, mass_name, HRZ_GAUSS2, &
@@ -172,8 +172,7 @@ contains
     do k = 1, d%n_patches
       associate (p => d%patches(k))
         line = '*PATCH, NAME='//trim(p%name)//', MATERIAL='//trim(p%material)// &
-            ', DEGREE='//str(p%degree(1))//','//str(p%degree(2))//', SIZE='// &
-            str(p%size(1))//','//str(p%size(2))
+            ', DEGREE='//str_list(p%degree(1:d%ndm))//', SIZE='//str_list(p%size(1:d%ndm))
         if (p%dilatation > 0) line = line//', DILATATION='//trim(merge('FULL', 'MEAN', &
             p%dilatation == 1))
         if (p%merge) line = line//', MERGE=YES'
@@ -185,6 +184,10 @@ contains
         if (allocated(p%knots2)) then
           call put(t, '*KNOTS, DIRECTION=2')
           call put_reals(t, p%knots2)
+        end if
+        if (allocated(p%knots3)) then
+          call put(t, '*KNOTS, DIRECTION=3')
+          call put_reals(t, p%knots3)
         end if
         if (allocated(p%cp)) then
           call put(t, '*CONTROL POINTS')
@@ -203,11 +206,11 @@ contains
     do k = 1, d%n_patch_ops
       associate (op => d%patch_ops(k))
         if (op%kind == OP_ELEVATE) then
-          call put(t, '*ELEVATE, PATCH='//trim(op%patch)//', DEGREE='//str(op%values(1))// &
-              ','//str(op%values(2)))
+          call put(t, '*ELEVATE, PATCH='//trim(op%patch)//', DEGREE='// &
+              str_list(op%values(1:d%ndm)))
         else
           call put(t, '*REFINE, PATCH='//trim(op%patch)//', SUBDIVIDE='// &
-              str(op%values(1))//','//str(op%values(2)))
+              str_list(op%values(1:d%ndm)))
         end if
       end associate
     end do
@@ -216,9 +219,14 @@ contains
   subroutine put_cp(t, cp)
     type(text_t), intent(inout) :: t
     real(dp), intent(in) :: cp(:,:)
-    integer :: k
+    integer :: k, i
+    character(len=:), allocatable :: line
     do k = 1, size(cp, 2)
-      call put(t, real_text(cp(1, k))//', '//real_text(cp(2, k))//', '//real_text(cp(3, k)))
+      line = real_text(cp(1, k))
+      do i = 2, size(cp, 1)
+        line = line//', '//real_text(cp(i, k))
+      end do
+      call put(t, line)
     end do
   end subroutine put_cp
 

@@ -16,7 +16,7 @@ module ictus_io_deck_model
   use ictus_io_deck_types, only: deck_t, element_block_in_t, set_in_t, surface_in_t, &
       where_len, ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, etype_nen, etype_name, SET_NODE, &
       SET_ELEMENT, SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, &
-      SIDE_ETA1, SIDE_ALL, SURF_ELEMENT, SURF_PATCH
+      SIDE_ETA1, SIDE_ALL, SIDE_ZETA0, SIDE_ZETA1, SURF_ELEMENT, SURF_PATCH
   use ictus_io_deck_card, only: card_t, reader_t, max_generated, card_error, check_params, &
       has_param, has_flag, get_param, get_name, get_choice, get_ints, get_reals, no_data, has_data, &
       count_ok, tok_int, tok_real, tok_name, plural
@@ -26,7 +26,12 @@ module ictus_io_deck_model
   public :: read_heading, read_analysis, read_node, read_element, read_set, read_surface
 
   !> Codes of the choices of SIDE=, in list order.
-  integer, parameter :: side_codes(5) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL]
+  !> The SIDE= values in the order of `side_names`: the sides of a patch and ALL; ZETA0 and
+  !! ZETA1 (the faces of the third direction) only in 3D.
+  integer, parameter :: side_codes(7) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, &
+      SIDE_ZETA0, SIDE_ZETA1]
+  character(len=*), parameter :: side_names(7) = ['XI0  ', 'XI1  ', 'ETA0 ', 'ETA1 ', &
+      'ALL  ', 'ZETA0', 'ZETA1']
 
 contains
 
@@ -406,10 +411,10 @@ contains
     end if
     call get_name(c, key, .true., name)
     call get_name(c, 'PATCH', .false., patch)
-    call get_side(c, side)
+    call get_side(c, d%ndm, side)
     if (side > 0) side = side_codes(side)
     if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
-        'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
+        'PATCH= and SIDE= go together (expected PATCH=name, SIDE='//side_choices(d%ndm)//')')
     if (has_param(c, 'PATCH') .and. has_flag(c, 'GENERATE')) call card_error(c, &
         'GENERATE cannot be combined with PATCH=')
     if (c%bad) return
@@ -535,9 +540,9 @@ contains
     call get_name(c, 'NAME', .true., s%name)
     call get_choice(c, 'TYPE', 'ELEMENT', kind)
     call get_name(c, 'PATCH', .false., s%patch)
-    call get_side(c, side)
+    call get_side(c, d%ndm, side)
     if (has_param(c, 'PATCH') .neqv. has_param(c, 'SIDE')) call card_error(c, &
-        'PATCH= and SIDE= go together (expected PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL)')
+        'PATCH= and SIDE= go together (expected PATCH=name, SIDE='//side_choices(d%ndm)//')')
     if (has_param(c, 'PATCH') .and. has_param(c, 'TYPE')) call card_error(c, &
         'give either PATCH=, SIDE= or TYPE=ELEMENT, not both')
     do k = 1, d%n_surfaces
@@ -550,7 +555,7 @@ contains
     if (has_param(c, 'PATCH') .or. (.not. has_param(c, 'TYPE') .and. side_data(c, rd))) then
       s%kind = SURF_PATCH
       allocate(s%elem(0), s%face(0), s%elset(0))
-      if (.not. read_surface_sides(c, rd, s, side)) return
+      if (.not. read_surface_sides(c, rd, s, side, d%ndm)) return
     else
       s%kind = SURF_ELEMENT
       if (.not. read_surface_faces(c, rd, s, d%ndm)) return
@@ -586,20 +591,18 @@ contains
   !> The patch sides of a *SURFACE: PATCH=, SIDE= of the card (code index `side` of
   !! side_codes) when given, then one "PATCH=name, SIDE=side" per data line. A side listed
   !! twice is an error.
-  logical function read_surface_sides(c, rd, s, side) result(ok)
+  logical function read_surface_sides(c, rd, s, side, ndm) result(ok)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
     type(surface_in_t), intent(inout) :: s
-    integer, intent(in) :: side
-    character(len=*), parameter :: expect = &
-        '*SURFACE: expected "PATCH=name, SIDE=XI0|XI1|ETA0|ETA1|ALL"'
-    character(len=*), parameter :: names(5) = ['XI0 ', 'XI1 ', 'ETA0', 'ETA1', 'ALL ']
-    character(len=:), allocatable :: w, key, val
+    integer, intent(in) :: side, ndm
+    character(len=:), allocatable :: w, key, val, expect
     type(token_t), allocatable :: toks(:)
     integer :: i, n, n0, m, j, k, eq
     logical :: got(2)
 
     ok = .false.
+    expect = '*SURFACE: expected "PATCH=name, SIDE='//side_choices(ndm)//'"'
     n0 = merge(1, 0, has_param(c, 'PATCH'))
     m = n0 + max(c%last - c%first + 1, 0)
     allocate(s%side_patch(m), s%side_code(m), s%entry_where(m))
@@ -627,10 +630,11 @@ contains
           s%side_patch(n) = val
           got(1) = .true.
         case ('SIDE')
-          k = findloc(names, upper(val), dim=1)
+          k = findloc(side_names, upper(val), dim=1)
+          if (ndm == 2 .and. k > 5) k = 0
           if (k == 0) then
             call input_error(w, '*SURFACE: bad value SIDE='//shown(val)//' ('// &
-                side_expected(val)//')')
+                side_expected(val, ndm)//')')
             return
           end if
           s%side_code(n) = side_codes(k)
@@ -651,7 +655,7 @@ contains
         if (upper(trim(s%side_patch(j))) == upper(trim(s%side_patch(n))) .and. &
             s%side_code(j) == s%side_code(n)) then
           call input_error(s%entry_where(n), '*SURFACE '//trim(s%name)//': side '// &
-              trim(names(findloc(side_codes, s%side_code(n), dim=1)))//' of patch '// &
+              trim(side_names(findloc(side_codes, s%side_code(n), dim=1)))//' of patch '// &
               trim(s%side_patch(n))//' is listed twice (first at '//trim(s%entry_where(j))//')')
           return
         end if
@@ -777,30 +781,42 @@ contains
   end subroutine add_ref
 
 
-  !> SIDE= of a patch side on card c: its position in XI0|XI1|ETA0|ETA1|ALL (0 when absent
-  !! or bad; a bad value is an error naming what is expected, side_expected).
-  subroutine get_side(c, side)
+  !> SIDE= of a patch side on card c: its position in XI0|XI1|ETA0|ETA1|ALL|ZETA0|ZETA1
+  !! (side_names; ZETA0 and ZETA1 only in 3D, ndm = 3); 0 when absent or bad (a bad value is
+  !! an error naming what is expected, side_expected).
+  subroutine get_side(c, ndm, side)
     type(card_t), intent(inout) :: c
+    integer, intent(in) :: ndm
     integer, intent(out) :: side
     character(len=:), allocatable :: v
     side = 0
     if (get_param(c, 'SIDE', v)) then
-      if (is_zeta(v)) then
-        call card_error(c, 'bad value SIDE='//shown(v)//' ('//side_expected(v)//')')
+      if (is_zeta(v) .and. ndm == 2) then
+        call card_error(c, 'bad value SIDE='//shown(v)//' ('//side_expected(v, ndm)//')')
         return
       end if
     end if
-    call get_choice(c, 'SIDE', 'XI0|XI1|ETA0|ETA1|ALL', side)
+    call get_choice(c, 'SIDE', side_choices(ndm), side)
   end subroutine get_side
+
+  !> The SIDE= values of a patch of dimension ndm, as get_choice takes them.
+  function side_choices(ndm) result(list)
+    integer, intent(in) :: ndm
+    character(len=:), allocatable :: list
+    list = 'XI0|XI1|ETA0|ETA1|ALL'
+    if (ndm == 3) list = list//'|ZETA0|ZETA1'
+  end function side_choices
 
   !> What a SIDE= value should be instead of v: ZETA0 and ZETA1 are sides of trivariate
   !! (3D) patches, which the patches of a 2D analysis are not.
-  function side_expected(v) result(msg)
+  function side_expected(v, ndm) result(msg)
     character(len=*), intent(in) :: v
+    integer, intent(in) :: ndm
     character(len=:), allocatable :: msg
     msg = 'expected one of XI0, XI1, ETA0, ETA1, ALL'
-    if (is_zeta(v)) msg = upper(v)//' is a side of a trivariate patch (3D); the patches of '// &
-        'a 2D analysis have the sides XI0, XI1, ETA0, ETA1 (or ALL)'
+    if (ndm == 3) msg = 'expected one of XI0, XI1, ETA0, ETA1, ALL, ZETA0, ZETA1'
+    if (is_zeta(v) .and. ndm == 2) msg = upper(v)//' is a side of a trivariate patch (3D); '// &
+        'the patches of a 2D analysis have the sides XI0, XI1, ETA0, ETA1 (or ALL)'
   end function side_expected
 
   !> Whether v names a side of the third parametric direction.

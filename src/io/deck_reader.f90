@@ -339,14 +339,11 @@ contains
   end subroutine read_card
 
   !> What a card of a 3D deck asks for that ictus does not have in 3D yet ('' for the cards
-  !! that 3D takes): trivariate NURBS patches and contact come after the hexahedra.
+  !! that 3D takes): contact comes after the hexahedra and the trivariate NURBS patches.
   pure function not_yet_3d(name) result(what)
     character(len=*), intent(in) :: name
     character(len=:), allocatable :: what
     select case (name)
-    case ('PATCH', 'KNOTS', 'CONTROL POINTS', 'ELEVATE', 'REFINE')
-      what = 'trivariate NURBS patches (*PATCH, *KNOTS, *CONTROL POINTS, *ELEVATE, '// &
-          '*REFINE); a 3D model takes the hexahedra C3D8, C3D20, C3D20R and C3D27'
     case ('TIE')
       what = 'ties (*TIE) between the faces of hexahedra; 3D contact has *CONTACT PAIR '// &
           '(TWO HALF PASS) and *RIGID WALL'

@@ -7,7 +7,7 @@
 module ictus_io_deck_types
   use ictus_core_kinds, only: dp, str_len
   use ictus_geometry_sides, only: SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, &
-      SIDE_ALL, side_name
+      SIDE_ALL, SIDE_ZETA0, SIDE_ZETA1, side_name
   use ictus_elements_types, only: ETYPE_Q4, ETYPE_Q8, ETYPE_Q9
   use ictus_elements_library, only: etype_name, etype_nen
   use ictus_solver_model, only: NVAR
@@ -24,8 +24,8 @@ module ictus_io_deck_types
       ANALYSIS_PLANE_STRAIN, ANALYSIS_PLANE_STRESS, ANALYSIS_3D, &
       ETYPE_Q4, ETYPE_Q8, ETYPE_Q9, etype_name, etype_nen, &
       SET_NODE, SET_ELEMENT, &
-      SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, side_name, &
-      SURF_ELEMENT, SURF_PATCH, &
+      SIDE_NONE, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ALL, SIDE_ZETA0, SIDE_ZETA1, &
+      side_name, SURF_ELEMENT, SURF_PATCH, &
       MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, mass_name, &
       HRZ_FULL, HRZ_GAUSS2, &
       OP_ELEVATE, OP_REFINE, &
@@ -219,13 +219,17 @@ module ictus_io_deck_types
   type :: patch_in_t
     character(len=str_len) :: name = ''
     character(len=str_len) :: material = ''
-    integer :: degree(2) = 0
-    integer :: size(2) = 0
+    !> Degrees and control points per direction: two directions in 2D (the third 0), three
+    !! in 3D (a trivariate patch).
+    integer :: degree(3) = 0
+    integer :: size(3) = 0
     real(dp), allocatable :: knots1(:)
     real(dp), allocatable :: knots2(:)
-    !> Control points (3, n1*n2): x, y, w; direction-1 index fastest.
+    real(dp), allocatable :: knots3(:)
+    !> Control points (3, n1*n2): x, y, w in 2D; (4, n1*n2*n3): x, y, z, w in 3D; direction-1
+    !! index fastest, then 2, then 3.
     real(dp), allocatable :: cp(:,:)
-    logical :: has_knots(2) = .false.
+    logical :: has_knots(3) = .false.
     logical :: has_cp = .false.
     !> DILATATION=: 0 AUTO (not given), 1 FULL, 2 MEAN (doc/theory.md §2.1).
     integer :: dilatation = 0
@@ -239,8 +243,9 @@ module ictus_io_deck_types
   type :: patch_op_in_t
     integer :: kind = 0
     character(len=str_len) :: patch = ''
-    !> ELEVATE: target degrees q1, q2; REFINE: subdivisions k1, k2.
-    integer :: values(2) = 0
+    !> ELEVATE: target degrees q1, q2[, q3]; REFINE: subdivisions k1, k2[, k3] (the third 0
+    !! in 2D).
+    integer :: values(3) = 0
     character(len=where_len) :: where = ''
   end type patch_op_in_t
 

@@ -8,10 +8,10 @@
 module ictus_io_results
   use ictus_core_kinds, only: dp
   use ictus_core_strings, only: lower
-  use ictus_elements_types, only: ETYPE_IGA, element_kind_t
+  use ictus_elements_types, only: ETYPE_IGA, ETYPE_IGA3, etype_is_nurbs, element_kind_t
   use ictus_elements_library, only: etype_name, etype_nen, element_type_count, element_kind
   use ictus_contact_contact, only: contact_t, pair_resultant
-  use ictus_solver_model, only: model_t, patch_nodes
+  use ictus_solver_model, only: model_t, patch_nodes, patch_name
   use ictus_solver_model, only: NVAR, VAR_U, VAR_V, VAR_A, VAR_S, VAR_E, VAR_MISES, &
       VAR_PEEQ, VAR_RF
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, ANALYSIS_3D
@@ -317,15 +317,25 @@ contains
     if (model%npatch > 0) then
       call h5u_group(g, 'patches', ge)
       do ip = 1, model%npatch
-        associate (pt => model%patches(ip))
-          call h5u_group(ge, trim(lower(pt%name)), gp)
-          call h5u_write(gp, 'degree', pt%p)
-          call h5u_write(gp, 'size', pt%n)
-          call h5u_write(gp, 'knots_1', pt%knots1)
-          call h5u_write(gp, 'knots_2', pt%knots2)
-          call h5u_write(gp, 'ids', patch_nodes(model, ip))
-          call h5u_close_group(gp)
-        end associate
+        call h5u_group(ge, lower(patch_name(model, ip)), gp)
+        if (model%ndm == 3) then
+          associate (v => model%volumes(ip))
+            call h5u_write(gp, 'degree', v%p)
+            call h5u_write(gp, 'size', v%n)
+            call h5u_write(gp, 'knots_1', v%knots1)
+            call h5u_write(gp, 'knots_2', v%knots2)
+            call h5u_write(gp, 'knots_3', v%knots3)
+          end associate
+        else
+          associate (pt => model%patches(ip))
+            call h5u_write(gp, 'degree', pt%p)
+            call h5u_write(gp, 'size', pt%n)
+            call h5u_write(gp, 'knots_1', pt%knots1)
+            call h5u_write(gp, 'knots_2', pt%knots2)
+          end associate
+        end if
+        call h5u_write(gp, 'ids', patch_nodes(model, ip))
+        call h5u_close_group(gp)
       end do
       call h5u_close_group(ge)
     end if
@@ -356,11 +366,11 @@ contains
     call h5u_group(r%file, 'viz', g)
     call h5u_close_group(g)
     call h5u_group(r%file, 'viz/iga', g)
-    allocate(points(2, r%viz%ns))
+    allocate(points(model%ndm, r%viz%ns))
     call iga_viz_points(r%viz, model, points)
     call h5u_write(g, 'points', points)
     deallocate(points)
-    allocate(cells(4, r%viz%ncells))
+    allocate(cells(2**model%ndm, r%viz%ncells))
     call iga_viz_cells(r%viz, model, cells)
     call h5u_write(g, 'cells', cells)
     call h5u_close_group(g)
@@ -397,24 +407,27 @@ contains
     if (model%npatch == 0) return
     call iga_viz_init(model, r%viz, model%viz_samples)
     do e = 1, model%nel
-      if (r%viz%first_cell(e) >= 0) r%ncells_of(e) = (r%viz%patches(model%patch(e))%s - 1)**2
+      if (r%viz%first_cell(e) >= 0) r%ncells_of(e) = &
+          (r%viz%patches(model%patch(e))%s - 1)**model%ndm
     end do
     r%viz_elems = pack([(e, e = 1, model%nel)], r%viz%first_point >= 0)
     r%viz_elems = pack(r%viz_elems, dom%owner(model%conn(1, r%viz_elems)) == dom%rank)
     r%nviz_mine = 0
     do q = 1, size(r%viz_elems)
-      r%nviz_mine = r%nviz_mine + r%viz%patches(model%patch(r%viz_elems(q)))%s**2
+      r%nviz_mine = r%nviz_mine + r%viz%patches(model%patch(r%viz_elems(q)))%s**model%ndm
     end do
-    allocate(r%viz_mine(r%nviz_mine), r%viz_u(2, r%nviz_mine), r%viz_v(2, r%nviz_mine))
+    allocate(r%viz_mine(r%nviz_mine), r%viz_u(model%ndm, r%nviz_mine), &
+        r%viz_v(model%ndm, r%nviz_mine))
     k = 0
     do q = 1, size(r%viz_elems)
       e = r%viz_elems(q)
-      do s = 1, r%viz%patches(model%patch(e))%s**2
+      do s = 1, r%viz%patches(model%patch(e))%s**model%ndm
         k = k + 1
         r%viz_mine(k) = r%viz%first_point(e) + s
       end do
     end do
-    r%grids = [r%grids, xdmf_grid_t('iga', ETYPE_IGA, r%viz%ncells, 4, r%viz%ns, .false.)]
+    r%grids = [r%grids, xdmf_grid_t('iga', merge(ETYPE_IGA3, ETYPE_IGA, model%ndm == 3), &
+        r%viz%ncells, 2**model%ndm, r%viz%ns, .false., ndm=model%ndm)]
   end subroutine setup_views
 
   !> What the snapshots hold for the XDMF sidecar (the attributes of absent datasets are
@@ -700,7 +713,8 @@ contains
     end if
     if (any(r%grids%etype /= ETYPE_IGA) .and. model%ndm == 2) call write_3d(g, name//'_3d', &
         x(:, 1:size(gid)), gid, r%nn)
-    if (r%viz%ns > 0) call write_3d(g, 'viz_'//name//'_3d', xv, r%viz_mine, r%viz%ns)
+    if (r%viz%ns > 0 .and. model%ndm == 2) call write_3d(g, 'viz_'//name//'_3d', xv, &
+        r%viz_mine, r%viz%ns)
   end subroutine node_vector
 
   !> Whether a snapshot needs the element fields (a variable of ictus_solver_fields is asked).
@@ -754,7 +768,7 @@ contains
     do k = 1, size(r%grids)
       associate (gr => r%grids(k))
         if (gr%whole) cycle
-        if (gr%etype == ETYPE_IGA) then
+        if (etype_is_nurbs(gr%etype)) then
           n = sum(r%ncells_of(elem))
           allocate(vals(size(v, 1), n), rows(n))
           n = 0

@@ -12,7 +12,7 @@
 !! - the HDF5 file is named without a directory: readers resolve it from the sidecar's folder.
 module ictus_io_xdmf
   use ictus_core_kinds, only: dp
-  use ictus_elements_types, only: ETYPE_IGA, element_kind_t
+  use ictus_elements_types, only: etype_is_nurbs, element_kind_t
   use ictus_elements_library, only: element_kind
   use ictus_parallel_env, only: env_is_root
   implicit none
@@ -21,7 +21,9 @@ module ictus_io_xdmf
 
   !> One block of cells: FE elements of one type (/model/elements/<name>/connectivity on
   !! /model/coordinates, fields displacement/velocity), or the NURBS viewing sub-cells (name
-  !! 'iga': /viz/iga/cells on /viz/iga/points, fields viz_displacement/viz_velocity).
+  !! 'iga': /viz/iga/cells on /viz/iga/points, fields viz_displacement/viz_velocity;
+  !! quadrilaterals of bivariate patches, etype ETYPE_IGA, or hexahedra of trivariate ones,
+  !! ETYPE_IGA3).
   type :: xdmf_grid_t
     character(len=16) :: name = ''
     integer :: etype = 0
@@ -96,7 +98,7 @@ contains
     character(len=*), intent(in) :: name, h5, sname
     real(dp), intent(in), optional :: time
     character(len=:), allocatable :: conn, geom, prefix
-    if (g%etype == ETYPE_IGA) then
+    if (etype_is_nurbs(g%etype)) then
       conn = ':/viz/iga/cells'
       geom = ':/viz/iga/points'
       prefix = 'viz_'
@@ -121,7 +123,7 @@ contains
     if (g%velocity) call attribute(u, 'velocity', prefix, h5, sname, g%npoints, g%ndm)
     ! the von Mises stress averaged at the nodes (finite-element blocks: the grid's points are
     ! the model's nodes)
-    if (g%etype /= ETYPE_IGA .and. g%mises) then
+    if (.not. etype_is_nurbs(g%etype) .and. g%mises) then
       write(u, '(a)') '     <Attribute Name="mises" AttributeType="Scalar" Center="Node">'
       write(u, '(a,i0,a)') '      <DataItem Format="HDF" DataType="Float" Precision="8" '// &
           'Dimensions="', g%npoints, '">'//h5//':/fields/'//sname//'/nodal_mises</DataItem>'
@@ -147,7 +149,7 @@ contains
     type(xdmf_grid_t), intent(in) :: g
     character(len=*), intent(in) :: name
     character(len=:), allocatable :: dataset
-    if (g%etype == ETYPE_IGA) then
+    if (etype_is_nurbs(g%etype)) then
       dataset = 'viz_'//name
     else if (g%whole) then
       dataset = name

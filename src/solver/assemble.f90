@@ -11,7 +11,8 @@ module ictus_solver_assemble
   use ictus_elements_types, only: elem_shape_t, TASK_MASS, TASK_STIFFNESS, TASK_JACOBIAN
   use ictus_elements_library, only: element_shape_data, element_routine, element_out_t, &
       element_type_count
-  use ictus_elements_iga, only: iga_shape_data
+  use ictus_elements_iga, only: iga_shape_data, iga3_shape_data
+  use ictus_geometry_volume, only: volume_elem_ijk
   use ictus_elements_solid2d, only: solid2d_volume
   use ictus_elements_solid3d, only: solid3d_volume
   use ictus_mass_types, only: MASS_CONSISTENT, MASS_ROW_SUM, MASS_HRZ, MASS_ALPHA, HRZ_GAUSS2
@@ -74,8 +75,16 @@ contains
     integer, intent(in) :: e, ngauss(:), slot
     type(shape_cache_t), intent(inout) :: cache
     type(elem_shape_t), intent(inout) :: shp
-    integer :: ip, ie, i1, i2, t
-    if (model%patch(e) > 0) then
+    integer :: ip, ie, i1, i2, t, ijk(3)
+    if (model%patch(e) > 0 .and. model%ndm == 3) then
+      ip = model%patch(e)
+      ie = model%patch_elem(e)
+      associate (v => model%volumes(ip))
+        ijk = volume_elem_ijk(v, ie)
+        call iga3_shape_data(v%p, v%c1(:, :, ijk(1)), v%c2(:, :, ijk(2)), v%c3(:, :, ijk(3)), &
+            v%cp(4, v%ien(:, ie)), ngauss, shp)
+      end associate
+    else if (model%patch(e) > 0) then
       ip = model%patch(e)
       ie = model%patch_elem(e)
       associate (pt => model%patches(ip))

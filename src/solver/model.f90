@@ -8,13 +8,15 @@
 module ictus_solver_model
   use ictus_core_kinds, only: dp, str_len
   use ictus_geometry_patch, only: patch_t
+  use ictus_geometry_volume, only: volume_t
   use ictus_geometry_mesh, only: mesh_t
   use ictus_materials_material, only: material_t
   use ictus_materials_law, only: ANALYSIS_PLANE_STRAIN, kinematics_t
   use ictus_solver_load_spec, only: load_spec_t
   implicit none
   private
-  public :: model_t, model_free, model_kinematics, patch_node, patch_nodes, model_force_kind
+  public :: model_t, model_free, model_kinematics, patch_node, patch_nodes, model_force_kind, &
+      patch_ncp, patch_name, patch_pmax
   public :: FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, output_set_t, VAR_U, VAR_V, VAR_A, VAR_S, &
@@ -86,8 +88,11 @@ module ictus_solver_model
     !! in the list of all control points before merging (FE nodes first). Control point k of
     !! patch p is node cp_node(patch_offset(p) + k); without merged patches cp_node is not
     !! allocated and the node is patch_offset(p) + k (patch_node).
+    !! In 3D the patches are trivariate: volumes(1:npatch) hold them and patches has size 0
+    !! (patch_ncp, patch_name and patch_pmax answer for either kind).
     integer :: npatch = 0
     type(patch_t), allocatable :: patches(:)
+    type(volume_t), allocatable :: volumes(:)
     integer, allocatable :: patch_offset(:)
     integer, allocatable :: cp_node(:)
     !> Control points merged into another one (*PATCH, MERGE=YES; doc/iga.md §1.1).
@@ -174,8 +179,42 @@ contains
     integer, intent(in) :: ip
     integer, allocatable :: nodes(:)
     integer :: k
-    nodes = [(patch_node(m, ip, k), k = 1, m%patches(ip)%n(1)*m%patches(ip)%n(2))]
+    nodes = [(patch_node(m, ip, k), k = 1, patch_ncp(m, ip))]
   end function patch_nodes
+
+  !> Number of control points of patch ip (bivariate in 2D, trivariate in 3D).
+  pure integer function patch_ncp(m, ip)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: ip
+    if (m%ndm == 3) then
+      patch_ncp = product(m%volumes(ip)%n)
+    else
+      patch_ncp = product(m%patches(ip)%n)
+    end if
+  end function patch_ncp
+
+  !> Name of patch ip.
+  pure function patch_name(m, ip) result(name)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: ip
+    character(len=:), allocatable :: name
+    if (m%ndm == 3) then
+      name = trim(m%volumes(ip)%name)
+    else
+      name = trim(m%patches(ip)%name)
+    end if
+  end function patch_name
+
+  !> Largest degree of patch ip over its directions.
+  pure integer function patch_pmax(m, ip)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: ip
+    if (m%ndm == 3) then
+      patch_pmax = maxval(m%volumes(ip)%p)
+    else
+      patch_pmax = maxval(m%patches(ip)%p)
+    end if
+  end function patch_pmax
 
   !> Releases everything a model holds.
   subroutine model_free(m)

@@ -11,7 +11,10 @@
 program test_iga3d
   use ictus_core_kinds, only: dp, pi
   use ictus_test_check, only: checker_t
-  use ictus_geometry_volume, only: volume_t, volume_init, volume_refine, volume_elevate
+  use ictus_geometry_volume, only: volume_t, volume_init, volume_refine, volume_elevate, &
+      volume_side_points, volume_elem_ijk
+  use ictus_geometry_sides, only: SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ZETA0, &
+      SIDE_ZETA1, SIDE_ALL
   use ictus_elements_iga, only: iga3_basis_at
   use ictus_elements_quadrature, only: gauss_legendre
   implicit none
@@ -21,6 +24,7 @@ program test_iga3d
   call t%start("elements/iga3d")
   call quarter_ball(v)
   call check_volume(t, v, 'coarse 1 x 2 x 1 spans')
+  call check_sides(t, v)
   call volume_refine(v, [2, 3, 2])
   call check_volume(t, v, 'refined 2 x 6 x 2')
   call volume_elevate(v, [1, 1, 1])
@@ -107,6 +111,35 @@ contains
     call t%close_abs(worst, 0.0_dp, 1.0e-13_dp, label//': the zeta = 1 side on the sphere')
     call t%close_abs(wsum, 0.0_dp, 1.0e-13_dp, label//': partition of unity')
   end subroutine check_volume
+
+  !> The faces of the coarse quarter-ball (3 x 5 x 3 control points): XI0 is the x axis
+  !! segment and ZETA0 the centre (collapsed), XI1 lies in the plane x = cx, ZETA1 on the
+  !! sphere; ALL is every control point but the 1 x 3 x 1 interior ones; and the span
+  !! indices of the elements.
+  subroutine check_sides(t, v)
+    type(checker_t), intent(inout) :: t
+    type(volume_t), intent(in) :: v
+    integer, allocatable :: idx(:)
+    integer :: n, k, counts(7)
+    integer, parameter :: sides(7) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ZETA0, &
+        SIDE_ZETA1, SIDE_ALL]
+    do k = 1, 7
+      call volume_side_points(v, sides(k), idx, counts(k))
+    end do
+    call t%true(all(counts == [15, 15, 9, 9, 15, 15, 42]), 'sides: control points per face')
+    call volume_side_points(v, SIDE_XI0, idx, n)
+    call t%close_abs(maxval(abs(v%cp(2:3, idx) - spread(c0(2:3), 2, n))), 0.0_dp, 1.0e-15_dp, &
+        'sides: XI0 on the x axis through the centre')
+    call volume_side_points(v, SIDE_ZETA0, idx, n)
+    call t%close_abs(maxval(abs(v%cp(1:3, idx) - spread(c0, 2, n))), 0.0_dp, 1.0e-15_dp, &
+        'sides: ZETA0 at the centre')
+    call volume_side_points(v, SIDE_XI1, idx, n)
+    call t%close_abs(maxval(abs(v%cp(1, idx) - c0(1))), 0.0_dp, 1.0e-15_dp, &
+        'sides: XI1 in the plane x = cx')
+    call volume_side_points(v, SIDE_ZETA1, idx, n)
+    call t%true(all(idx == [(k, k = 31, 45)]), 'sides: ZETA1 the last layer of direction 3')
+    call t%true(all(volume_elem_ijk(v, 2) == [1, 2, 1]), 'element 2 is span (1, 2, 1)')
+  end subroutine check_sides
 
   pure real(dp) function det3(a)
     real(dp), intent(in) :: a(3, 3)

@@ -12,7 +12,7 @@ program test_deck_reader
       SURF_ELEMENT, SURF_PATCH, MASS_ALPHA, MASS_HRZ, MASS_ROW_SUM, HRZ_FULL, HRZ_GAUSS2, &
       OP_ELEVATE, OP_REFINE, CONTACT_TWO_HALF_PASS, CONTACT_NODE_TO_SEGMENT, &
       AMP_DEF_SMOOTH_STEP, AMP_DEF_TABULAR, DLOAD_GRAV, DLOAD_PRESSURE, BC_DISPLACEMENT, &
-      BC_VELOCITY, ANALYSIS_3D
+      BC_VELOCITY, ANALYSIS_3D, SIDE_ZETA0, SIDE_ZETA1
   use ictus_elements_types, only: ETYPE_C3D8, ETYPE_C3D20, ETYPE_C3D27
   use ictus_io_deck_reader, only: read_deck
   use ictus_io_deck_echo, only: deck_echo, real_text
@@ -42,6 +42,8 @@ program test_deck_reader
   call case_round_trip(t, dir//'/loads.inp', 'roundtrip_loads.inp')
   call case_3d(t, dir//'/model_3d.inp')
   call case_round_trip(t, dir//'/model_3d.inp', 'roundtrip_3d.inp')
+  call case_patch_3d(t, dir//'/patch_3d.inp')
+  call case_round_trip(t, dir//'/patch_3d.inp', 'roundtrip_patch_3d.inp')
   call case_record(t, dir//'/model_3d.inp')
   call case_short_echo(t, dir//'/model_fe.inp')
   call case_record(t, dir//'/model_fe.inp')
@@ -257,8 +259,8 @@ contains
     if (d%n_patches /= 2) return
     associate (p => d%patches(1))
       call t%true(p%name == 'LOWER' .and. p%material == 'SOFT', 'patch: names')
-      call t%true(all(p%degree == [2, 2]) .and. all(p%size == [3, 3]), 'patch: degree, size')
-      call t%true(all(p%has_knots) .and. p%has_cp, 'patch: knots and control points read')
+      call t%true(all(p%degree == [2, 2, 0]) .and. all(p%size == [3, 3, 0]), 'patch: degree, size')
+      call t%true(all(p%has_knots(1:2)) .and. p%has_cp, 'patch: knots and control points read')
       call t%true(all(p%knots1 == [0, 0, 0, 1, 1, 1]) .and. all(p%knots2 == [0, 0, 0, 1, 1, &
           1]), 'patch: knot vectors over two lines')
       call t%equal_int(size(p%cp, 2), 9, 'patch: 9 control points')
@@ -273,7 +275,7 @@ contains
       call t%close(p%cp(3, 8), sqrt(0.5_dp), 1.0e-15_dp, 'patch: weight sqrt(2)/2')
     end associate
     associate (p => d%patches(2))
-      call t%true(all(p%degree == [2, 1]) .and. all(p%size == [5, 2]), 'ring: degree, size')
+      call t%true(all(p%degree == [2, 1, 0]) .and. all(p%size == [5, 2, 0]), 'ring: degree, size')
       call t%true(all(p%knots1 == [0.0_dp, 0.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 1.0_dp, &
           1.0_dp]), 'ring: C0 knot vector over three lines')
       call t%true(all(p%cp(:, 2) == [1.0_dp, 11.0_dp, sqrt(0.5_dp)]), &
@@ -281,11 +283,11 @@ contains
     end associate
     call t%equal_int(d%n_patch_ops, 3, 'patch: ops')
     if (d%n_patch_ops == 3) then
-      call t%true(d%patch_ops(1)%kind == OP_ELEVATE .and. all(d%patch_ops(1)%values == [3, 3]), &
+      call t%true(d%patch_ops(1)%kind == OP_ELEVATE .and. all(d%patch_ops(1)%values == [3, 3, 0]), &
           'patch: elevate')
       call t%true(d%patch_ops(2)%kind == OP_REFINE .and. &
-          all(d%patch_ops(2)%values == [16, 16]), 'patch: refine')
-      call t%true(d%patch_ops(3)%patch == 'LOWER' .and. all(d%patch_ops(3)%values == [3, 4]), &
+          all(d%patch_ops(2)%values == [16, 16, 0]), 'patch: refine')
+      call t%true(d%patch_ops(3)%patch == 'LOWER' .and. all(d%patch_ops(3)%values == [3, 4, 0]), &
           'patch: second elevate (lower case name)')
     end if
     call t%equal_int(d%n_sets, 1, 'patch: sets')
@@ -434,6 +436,44 @@ contains
         index(deck_echo(d, .true.), ', GRAV, 9.81, 0, 0, -1') > 0, &
         '3d: echo of the analysis, a node and the gravity')
   end subroutine case_3d
+
+  !> A trivariate patch in a 3D deck (the quarter-ball of quarter_ball.py): three degrees,
+  !! sizes and knot vectors, control points x, y, z, w, *ELEVATE and *REFINE with three
+  !! values, the sides ZETA0 and ZETA1.
+  subroutine case_patch_3d(t, path)
+    type(checker_t), intent(inout) :: t
+    character(len=*), intent(in) :: path
+    type(deck_t) :: d
+    integer :: n0, k
+    n0 = error_count()
+    call read_deck(path, d)
+    call t%equal_int(error_count() - n0, 0, 'patch 3d: no errors')
+    call t%equal_int(d%n_patches, 1, 'patch 3d: one patch')
+    if (d%n_patches /= 1) return
+    associate (p => d%patches(1))
+      call t%true(all(p%degree == [2, 2, 2]) .and. all(p%size == [3, 5, 3]), &
+          'patch 3d: degree, size')
+      call t%true(all(p%has_knots) .and. p%has_cp, 'patch 3d: three knot vectors, points')
+      call t%true(size(p%knots3) == 6 .and. p%knots3(4) == 1.0_dp, 'patch 3d: knots3')
+      call t%true(size(p%cp, 1) == 4 .and. size(p%cp, 2) == 45, 'patch 3d: cp (4, 45)')
+      call t%true(all(p%cp(4, :) > 0.0_dp) .and. p%cp(3, 45) == 2.0_dp, &
+          'patch 3d: x, y, z, w of the last point (top of the ball)')
+    end associate
+    call t%true(d%n_patch_ops == 2, 'patch 3d: two patch operations')
+    if (d%n_patch_ops == 2) call t%true(all(d%patch_ops(1)%values == [3, 3, 3]) .and. &
+        all(d%patch_ops(2)%values == [2, 2, 2]), 'patch 3d: elevate 3,3,3, refine 2,2,2')
+    k = findloc(d%sets(1:d%n_sets)%name, 'BALL_X0_ZETA0', dim=1)
+    call t%true(k > 0, 'patch 3d: node set of side ZETA0')
+    if (k > 0) call t%equal_int(d%sets(k)%side, SIDE_ZETA0, 'patch 3d: side ZETA0')
+    call t%true(d%n_surfaces == 1, 'patch 3d: one surface')
+    if (d%n_surfaces == 1) call t%equal_int(d%surfaces(1)%side, SIDE_ZETA1, &
+        'patch 3d: surface on side ZETA1')
+    call t%true(index(deck_echo(d, .true.), 'DEGREE=2,2,2, SIZE=3,5,3') > 0 .and. &
+        index(deck_echo(d, .true.), '*KNOTS, DIRECTION=3') > 0 .and. &
+        index(deck_echo(d, .true.), 'SIDE=ZETA1') > 0 .and. &
+        index(deck_echo(d, .true.), 'SUBDIVIDE=2,2,2') > 0, &
+        'patch 3d: echo of the patch card, the third knot vector, a ZETA side, *REFINE')
+  end subroutine case_patch_3d
 
   !> deck_echo(full) written to a file and read again gives the same deck.
   subroutine case_round_trip(t, path, copy)
@@ -699,6 +739,8 @@ contains
             size(x%knots2) == size(y%knots2) .and. size(x%cp) == size(y%cp)
         if (same) same = all(x%knots1 == y%knots1) .and. all(x%knots2 == y%knots2) .and. &
             all(x%cp == y%cp)
+        if (same .and. allocated(x%knots3)) same = allocated(y%knots3)
+        if (same .and. allocated(x%knots3)) same = all(x%knots3 == y%knots3)
       end associate
     end do
     do k = 1, min(a%n_patch_ops, b%n_patch_ops)
