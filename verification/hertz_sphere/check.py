@@ -7,17 +7,20 @@ scripts/mesh/quarter_ball.py, C3D20 (cubed sphere), HRZ mass. Quasi-static Hertz
 v = 0.1 on a rigid wall: F_max = 3.1460 (0.78650 on the quarter), t_c = 0.48985,
 a = 0.12901, p0 = 90.252 at F_max (derived in doc/reference.md §3.8).
 
-1. Dynamic sphere on a rigid wall, refinement series (n elements along an inner-block edge,
-   grading towards the contact point): the momentum of the body changes by exactly the
-   impulse of the wall (sum of dt F over the steps, to round-off); the rebound velocity is at
-   least 0.95 v; energy is kept (the penalty is conservative); F_max and t_c approach the
-   Hertz values as the mesh is refined (the error of the finer mesh is smaller), and the finest
-   mesh of the series is within TOL_DYN of them (the issue asks 3 %: see doc/contact.md §9.6
-   for the measured series and why the finest mesh that fits the test budget is not there).
+1. Dynamic sphere on a rigid wall: in every run the momentum of the body changes by exactly
+   the impulse of the wall (sum of dt F over the steps, to round-off), the rebound velocity is
+   at least 0.95 v and energy is kept (the penalty is conservative). At v = 0.1 two meshes
+   (n = 4 graded 1.3, n = 6 graded 1.4) agree to 1 % in F_max and 2 % in t_c (the pulse
+   starts and ends when the first and the last Gauss point touch, which depends on where the
+   mesh puts them) and lie
+   within TOL_DYN of half-space Hertz: a sphere with a/R = 0.13 is stiffer than Hertz's half
+   space by about 5 % in F_max (doc/contact.md §9.6). At v = 0.01 (a/R = 0.05) the run is
+   within 3 % of quasi-static Hertz, and closer to it than at v = 0.1.
 2. Two spheres (--partner body, TWO HALF PASS between the spherical faces), each at v toward
    the other: by symmetry the same problem as one sphere on a wall, so the same F_max and
-   t_c as case 1 on the same mesh within 1 %; the total momentum stays 0 and the forces on
-   the two surfaces are opposite to round-off (mirrored meshes).
+   t_c as the sphere on the wall on the same mesh (n = 3) within 1 %; the total momentum
+   stays 0 and the z forces on the two surfaces are opposite (mirrored meshes; 1e-9, the
+   projections' tolerance).
 3. Static Hertz sphere by damped relaxation: a force P = 0.7865 (the quarter of F_max) on the
    pole opposite the contact, mass-proportional damping; at rest the wall's force equals P to
    0.5 % (equilibrium, int p dA = P); p0 and a from a least-squares fit of
@@ -44,8 +47,10 @@ F_MAX = 4.0 / 3.0 * ESTAR * np.sqrt(R) * DELTA**1.5 / 4.0      # quarter model
 T_C = 2.9432 * DELTA / V
 A_C = np.sqrt(R * DELTA)
 P0 = 3.0 * 4.0 * F_MAX / (2.0 * np.pi * A_C**2)
-# the finest mesh of the series that fits the test budget (n = 4, grading 1.3) measures
-# F_max +5.9 % and t_c -5.7 % (doc/contact.md §9.6); the gate is that, not the issue's 3 %
+# at v = 0.1 the converged run lies +5.4 % (F_max) and -4.3 % (t_c) from the half-space
+# Hertz values: a sphere of a/R = 0.13 is stiffer than Hertz's half-space (its centre is not
+# infinitely far from the contact), doc/contact.md §9.6; the gate is that, not the issue's 3 %,
+# which the slow impact (v = 0.01, a/R = 0.05) meets
 TOL_DYN = 0.07
 
 
@@ -75,36 +80,55 @@ def body_velocity(r, nodes=None):
     return float((m * v).sum() / m.sum())
 
 
+def hertz(v):
+    """Quasi-static Hertz F_max (quarter model) and t_c at impact speed v."""
+    delta = (15.0 * MASS * v**2 / (16.0 * ESTAR * np.sqrt(R)))**0.4
+    return 4.0 / 3.0 * ESTAR * np.sqrt(R) * delta**1.5 / 4.0, 2.9432 * delta / v
+
+
+def wall_run(args, chk, name, label, v, t_end, *opts):
+    """The sphere at speed v on the wall: momentum, rebound and energy checked; returns
+    (F_max, t_c)."""
+    path = os.path.join(args.work, name + ".inp")
+    out = path.replace(".inp", ".h5")
+    ball_deck(args, path, *opts, "--v", repr(v), "--penalty", "1e6", "--t-end", repr(t_end),
+              "--field-every", "0")
+    vcheck.run_ictus(args, path, out)
+    r = vcheck.Results(out)
+    fmax, tc, t, f = pulse(r, "wall")
+    fh, th = hertz(v)
+    m = r.model("mass").sum()
+    vz = body_velocity(r)
+    impulse = float((f * r.history("dt")).sum())
+    print(f"  wall, C3D20 HRZ, {label}: F_max {fmax:.6g} ({fmax / fh - 1:+.2%}), t_c "
+          f"{tc:.4f} ({tc / th - 1:+.2%}), rebound {vz / v:.4f} v")
+    chk.close(m * (vz + v), impulse, 1e-12, f"{label}: change of momentum = impulse of the "
+              "wall (sum dt F_z)")
+    chk.true(vz >= 0.95 * v, f"{label}: rebound velocity {vz:.5g} >= 0.95 v")
+    e = r.history("energy/total")
+    chk.below(abs(e[-1] - e[0]) / e[0], 5e-3, f"{label}: energy kept (relative change)")
+    return fmax, tc
+
+
 def dynamic_series(args, chk):
-    errors = []
-    for label, opts in (("n = 3", ["--n", "3"]), ("n = 4, grading 1.3",
-                                                  ["--n", "4", "--grade", "1.3"])):
-        path = os.path.join(args.work, f"wall_{len(errors)}.inp")
-        out = path.replace(".inp", ".h5")
-        ball_deck(args, path, *opts, "--penalty", "1e6", "--t-end", "0.6", "--field-every",
-                  "0")
-        vcheck.run_ictus(args, path, out)
-        r = vcheck.Results(out)
-        fmax, tc, t, f = pulse(r, "wall")
-        m = r.model("mass").sum()
-        dt = r.history("dt")
-        vz = body_velocity(r)
-        impulse = float((f * dt).sum())
-        print(f"  wall, C3D20 HRZ, {label}: F_max {fmax:.5f} ({fmax / F_MAX - 1:+.2%}), t_c "
-              f"{tc:.4f} ({tc / T_C - 1:+.2%}), rebound {-vz / -V:.4f} v")
-        chk.close(m * (vz + V), impulse, 1e-12, f"{label}: change of momentum = impulse of the "
-                  "wall (sum dt F_z)")
-        chk.true(vz >= 0.95 * V, f"{label}: rebound velocity {vz:.5f} >= 0.95 v")
-        e = r.history("energy/total")
-        chk.below(abs(e[-1] - e[0]) / e[0], 5e-3, f"{label}: energy kept (relative change)")
-        errors.append((abs(fmax / F_MAX - 1), abs(tc / T_C - 1), fmax, tc))
-    chk.true(errors[1][0] < errors[0][0] and errors[1][1] < errors[0][1],
-             "refinement: the errors of F_max and t_c fall "
-             f"({errors[0][0]:.3f} -> {errors[1][0]:.3f}, {errors[0][1]:.3f} -> "
-             f"{errors[1][1]:.3f})")
-    chk.close(errors[1][2], F_MAX, TOL_DYN, "finest mesh: F_max against quasi-static Hertz")
-    chk.close(errors[1][3], T_C, TOL_DYN, "finest mesh: t_c against quasi-static Hertz")
-    return errors[0]
+    """v = 0.1: two meshes agree (the answer is mesh-converged) and lie FINITE_SIZE above
+    (F_max) and below (t_c) the half-space Hertz values; v = 0.01 (a/R = 0.05, the finite-size
+    term 2.5 times smaller): within 3 % of Hertz."""
+    f4, t4 = wall_run(args, chk, "wall_4", "v = 0.1, n = 4 graded 1.3", V, 0.6, "--n", "4",
+                      "--grade", "1.3")
+    f6, t6 = wall_run(args, chk, "wall_6", "v = 0.1, n = 6 graded 1.4", V, 0.6, "--n", "6",
+                      "--grade", "1.4")
+    chk.close(f6, f4, 0.01, "v = 0.1: F_max of the two meshes (converged)")
+    chk.close(t6, t4, 0.02, "v = 0.1: t_c of the two meshes (converged)")
+    chk.close(f6, F_MAX, TOL_DYN, "v = 0.1, finer mesh: F_max against half-space Hertz")
+    chk.close(t6, T_C, TOL_DYN, "v = 0.1, finer mesh: t_c against half-space Hertz")
+    fl, tl = wall_run(args, chk, "wall_slow", "v = 0.01, n = 6 graded 1.4", 0.01, 1.0, "--n",
+                      "6", "--grade", "1.4")
+    fh, th = hertz(0.01)
+    chk.close(fl, fh, 0.03, "v = 0.01: F_max against quasi-static Hertz")
+    chk.close(tl, th, 0.03, "v = 0.01: t_c against quasi-static Hertz")
+    chk.true(abs(fl / fh - 1) < abs(f6 / F_MAX - 1), "the deviation of F_max from Hertz falls "
+             f"with the speed ({f6 / F_MAX - 1:+.3f} at v = 0.1, {fl / fh - 1:+.3f} at 0.01)")
 
 
 def two_spheres(args, chk, wall):
@@ -118,8 +142,8 @@ def two_spheres(args, chk, wall):
     fmax, tc, t, f = pulse(r, pair)
     f2 = r.history(f"contact/{pair}/force_second")
     f1 = r.history(f"contact/{pair}/force_first")
-    chk.close(fmax, wall[2], 0.01, "two spheres: F_max as the sphere on the wall (same mesh)")
-    chk.close(tc, wall[3], 0.01, "two spheres: t_c as the sphere on the wall (same mesh)")
+    chk.close(fmax, wall[0], 0.01, "two spheres: F_max as the sphere on the wall (same mesh)")
+    chk.close(tc, wall[1], 0.01, "two spheres: t_c as the sphere on the wall (same mesh)")
     # the two half-passes project mirrored points onto mirrored faces, each to the projection
     # tolerance (1e-13 in the face parameters), so they agree to about that
     chk.below(np.abs(f1[:, 2] + f2[:, 2]).max() / fmax, 1e-9, "two spheres: z force on the "
@@ -234,7 +258,8 @@ def main():
     chk = vcheck.Checker("hertz_sphere")
     print(f"quasi-static Hertz (quarter): F_max {F_MAX:.5f}, t_c {T_C:.5f}, a {A_C:.5f}, "
           f"p0 {P0:.4f}")
-    wall = dynamic_series(args, chk)
+    dynamic_series(args, chk)
+    wall = wall_run(args, chk, "wall_3", "v = 0.1, n = 3", V, 0.6, "--n", "3")
     two_spheres(args, chk, wall)
     static_sphere(args, chk)
     ranks(args, chk)
