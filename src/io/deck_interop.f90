@@ -6,7 +6,8 @@
 !! * `resolve_interop` (called by `finish_deck` before `check_deck`):
 !!   - the analysis implied by Abaqus element names (CPE*: plane strain, CPS*: plane stress)
 !!     against each other and against *ANALYSIS, TYPE=;
-!!   - line elements (T3D2, T3D3 of a gmsh boundary) turned into node sets: the ELSET= of their
+!!   - line elements (T3D2, T3D3 of a gmsh boundary; in 3D also its surface elements CPS3,
+!!     CPS4, CPS6, CPS8, M3D9) turned into node sets: the ELSET= of their
 !!     *ELEMENT cards and every *ELSET made of them become *NSETs of their nodes;
 !!   - materials: each element gets exactly one, from MATERIAL= on its *ELEMENT or from the
 !!     *SOLID SECTION whose ELSET holds it. Blocks whose elements get different materials are
@@ -338,8 +339,9 @@ contains
           if (edge_block_named(d, s%refs(j))) n_edge = n_edge + 1
         end do
         if (n_edge > 0 .and. n_solid > 0) then
-          call input_error(s%where, '*ELSET: set '//trim(s%name)//' mixes line elements '// &
-              '(T3D2, T3D3: boundary nodes) and solid elements (expected one kind per set)')
+          call input_error(s%where, '*ELSET: set '//trim(s%name)//' mixes boundary '// &
+              'elements (T3D2, T3D3; in 3D CPS3..M3D9: boundary nodes) and solid elements '// &
+              '(expected one kind per set)')
         else if (n_edge > 0) then
           s%kind = SET_NODE
           s%ids = nodes

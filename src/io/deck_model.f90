@@ -170,7 +170,8 @@ contains
   !! "id, n1, ..., nen"; a line that ends with a comma before all nen nodes are given goes on
   !! to the next line (as Abaqus and gmsh write 20- and 27-node elements). Data lines from
   !! different files go to separate blocks. Line elements (T3D2, T3D3, as gmsh writes a
-  !! boundary) go to `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
+  !! boundary) and in 3D the surface elements of a boundary (CPS3, CPS4, CPS6, CPS8, M3D9)
+  !! go to `d%edges`: their ELSET names become node sets (ictus_io_deck_interop).
   subroutine read_element(c, rd, d)
     type(card_t), intent(inout) :: c
     type(reader_t), intent(inout) :: rd
@@ -336,7 +337,8 @@ contains
 
   !> TYPE= of *ELEMENT: a type of the element library by its name or Abaqus name (b%etype,
   !! b%nen, b%analysis it implies; `gauss` the rule the name implies, 0: the type's own), or a
-  !! line element T3D2/T3D3 (b%etype = 0, b%nen = 2 or 3). The type must have the dimension
+  !! boundary element (b%etype = 0, b%nen its nodes): a line element T3D2/T3D3, or in 3D a
+  !! surface element (face_element_nodes). The type must have the dimension
   !! of the deck (d%ndm). b%nen = 0 when bad (reported).
   subroutine get_element_type(c, d, b, gauss)
     type(card_t), intent(inout) :: c
@@ -352,6 +354,12 @@ contains
       return
     end if
     b%type_name = upper(collapse_blanks(v))
+    if (d%ndm == 3 .and. face_element_nodes(b%type_name) > 0) then
+      ! the surface elements of a gmsh 3D export: sets of boundary nodes, as line elements
+      b%etype = 0
+      b%nen = face_element_nodes(b%type_name)
+      return
+    end if
     call element_type_named(b%type_name, b%etype, b%analysis, gauss)
     if (b%etype > 0) then
       if (etype_ndm(b%etype) /= d%ndm) then
@@ -365,10 +373,32 @@ contains
       call card_error(c, 'bad value TYPE='//shown(v)//' (expected one of '// &
           element_types_named(d%ndm)//'; or the Abaqus names '// &
           element_abaqus_names(d%ndm)//'; ictus has no triangles, tetrahedra, '// &
-          'axisymmetric, beam or shell elements; line elements T3D2, T3D3 are read as sets '// &
+          'axisymmetric, beam or shell elements; line elements T3D2, T3D3 (and in 3D the '// &
+          'surface elements CPS3, CPS4, CPS6, CPS8, M3D9 of a gmsh export) are read as sets '// &
           'of boundary nodes)')
     end if
   end subroutine get_element_type
+
+  !> Nodes of a surface element that a 3D mesh export writes on its boundary (gmsh: CPS3,
+  !! CPS4, CPS6, CPS8 and M3D9; also the CPE and membrane M3D names of the same shapes), 0
+  !! for any other name. In a 3D analysis such elements are sets of boundary nodes.
+  pure integer function face_element_nodes(name)
+    character(len=*), intent(in) :: name
+    select case (name)
+    case ('CPS3', 'CPE3', 'M3D3')
+      face_element_nodes = 3
+    case ('CPS4', 'CPE4', 'M3D4', 'CPS4R', 'CPE4R', 'M3D4R')
+      face_element_nodes = 4
+    case ('CPS6', 'CPE6', 'M3D6')
+      face_element_nodes = 6
+    case ('CPS8', 'CPE8', 'M3D8', 'CPS8R', 'CPE8R', 'M3D8R')
+      face_element_nodes = 8
+    case ('M3D9', 'CPS9', 'CPE9', 'M3D9R')
+      face_element_nodes = 9
+    case default
+      face_element_nodes = 0
+    end select
+  end function face_element_nodes
 
   !> Why element type b%etype does not fit the analysis of deck d (a 3D type in a 2D
   !! analysis, or a 2D type in a 3D one), with the types that would.

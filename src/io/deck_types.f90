@@ -379,8 +379,8 @@ module ictus_io_deck_types
     character(len=where_len) :: analysis_where = ''
     integer :: n_blocks = 0
     type(element_block_in_t), allocatable :: blocks(:)
-    !> Line elements (T3D2, T3D3 of a gmsh boundary): not part of the model, their ELSET
-    !! names become node sets.
+    !> Boundary elements (T3D2, T3D3 of a gmsh boundary; in 3D its surface elements CPS3..M3D9):
+    !! not part of the model, their ELSET names become node sets.
     integer :: n_edges = 0
     type(element_block_in_t), allocatable :: edges(:)
     integer :: n_sections = 0

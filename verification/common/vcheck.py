@@ -48,6 +48,17 @@ def run_ictus(args, deck, out=None, expect_status=0, extra=(), np=None, env=None
     return p.returncode, p.stdout
 
 
+def require_gmsh():
+    """Exits with status 77 (CTest's skip) and a message when the gmsh Python module is
+    missing."""
+    try:
+        import gmsh  # noqa: F401
+    except ImportError:
+        print("SKIPPED: the gmsh Python module is missing (Debian: apt-get install gmsh "
+              "python3-gmsh; scripts/setup.sh installs it)")
+        sys.exit(77)
+
+
 class Results:
     """Read access to an ictus results file."""
 

@@ -34,12 +34,7 @@ LX, LY, R, RHO = 4.0, 2.0, 0.5, 1.0
 
 def main():
     args = vcheck.arguments()
-    try:
-        import gmsh  # noqa: F401
-    except ImportError:
-        print("SKIPPED: the gmsh Python module is missing (Debian: apt-get install gmsh "
-              "python3-gmsh; scripts/setup.sh installs it)")
-        sys.exit(77)
+    vcheck.require_gmsh()
     chk = vcheck.Checker("gmsh_plate")
     mesh = os.path.join(args.work, "plate_gmsh_mesh.inp")
     subprocess.run([sys.executable, os.path.join(vcheck.ROOT, "scripts", "mesh", "gmsh_plate.py"),
