@@ -345,7 +345,7 @@ contains
     type(deck_t), intent(in) :: d
     type(element_block_in_t), intent(inout) :: b
     integer, intent(out) :: gauss
-    character(len=:), allocatable :: v
+    character(len=:), allocatable :: v, mat
     gauss = 0
     b%nen = 0
     if (.not. get_param(c, 'TYPE', v)) then
@@ -354,8 +354,10 @@ contains
       return
     end if
     b%type_name = upper(collapse_blanks(v))
-    if (d%ndm == 3 .and. face_element_nodes(b%type_name) > 0) then
+    if (d%ndm == 3 .and. face_element_nodes(b%type_name) > 0 .and. &
+        .not. get_param(c, 'MATERIAL', mat)) then
       ! the surface elements of a gmsh 3D export: sets of boundary nodes, as line elements
+      ! (with a MATERIAL= the card means solids: a 2D element in a 3D analysis, refused below)
       b%etype = 0
       b%nen = face_element_nodes(b%type_name)
       return
