@@ -51,7 +51,7 @@ contains
     integer, parameter :: sides(4) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1]
     integer, allocatable :: parent(:)
     real(dp), allocatable :: diag(:)
-    integer :: np, a, b, sa, sb, u, r
+    integer :: np, a, b, sa, sb, u
     np = size(patches)
     allocate(parent(nn0), diag(np))
     parent = [(u, u = 1, nn0)]
@@ -72,17 +72,7 @@ contains
         end do
       end do
     end do
-    allocate(cp_node(nn0))
-    nn = 0
-    do u = 1, nn0
-      r = find_root(parent, u)
-      if (r == u) then
-        nn = nn + 1
-        cp_node(u) = nn
-      else
-        cp_node(u) = cp_node(r)
-      end if
-    end do
+    call numbering(parent, cp_node, nn)
 
   contains
 
@@ -172,7 +162,7 @@ contains
     real(dp), parameter :: dir(3) = [0.8017837257_dp, 0.5469001627_dp, 0.2358453154_dp]
     integer, allocatable :: parent(:), key(:), order(:)
     real(dp) :: diag, tol, cell
-    integer :: a, i, j, m, u, r
+    integer :: a, i, j, m, u
     allocate(parent(nn0))
     parent = [(u, u = 1, nn0)]
     do a = 1, size(volumes)
@@ -195,17 +185,7 @@ contains
         end do
       end associate
     end do
-    allocate(cp_node(nn0))
-    nn = 0
-    do u = 1, nn0
-      r = find_root(parent, u)
-      if (r == u) then
-        nn = nn + 1
-        cp_node(u) = nn
-      else
-        cp_node(u) = cp_node(r)
-      end if
-    end do
+    call numbering(parent, cp_node, nn)
   end subroutine merge_volume_points
 
   !> Distance between control point i of patch p and control point j of patch q.
@@ -228,6 +208,26 @@ contains
     end if
     k = (k - k(1))/(k(size(k)) - k(1))
   end function side_knots
+
+  !> One node per group of the union-find forest parent, numbered in order of its first
+  !! member: cp_node(u) of each member u, nn nodes.
+  pure subroutine numbering(parent, cp_node, nn)
+    integer, intent(in) :: parent(:)
+    integer, allocatable, intent(out) :: cp_node(:)
+    integer, intent(out) :: nn
+    integer :: u, r
+    allocate(cp_node(size(parent)))
+    nn = 0
+    do u = 1, size(parent)
+      r = find_root(parent, u)
+      if (r == u) then
+        nn = nn + 1
+        cp_node(u) = nn
+      else
+        cp_node(u) = cp_node(r)
+      end if
+    end do
+  end subroutine numbering
 
   !> Root of u in the union-find forest (the smallest member of its group).
   pure integer function find_root(parent, u) result(r)
