@@ -10,13 +10,16 @@ module ictus_app_build_contact
   use ictus_core_kinds, only: dp, str_len
   use ictus_core_errors, only: input_error, warning, error_count
   use ictus_core_strings, only: str, upper
-  use ictus_geometry_sides, only: side_name
+  use ictus_geometry_sides, only: side_name, SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, &
+      SIDE_ZETA0, SIDE_ZETA1, SIDE_ALL
   use ictus_contact_surface, only: SEG_LAGRANGE, SEG_BEZIER, surface_init, face_segment, &
       element_area, patch_side_segments, contact_surface_t
   use ictus_contact_contact, only: contact_t, contact_init, contact_define_pair, &
       contact_define_wall, contact_setup, PAIR_TWO_HALF_PASS, PAIR_NODE_TO_SEGMENT, &
       contact_define_friction, PAIR_MORTAR, PAIR_TIE, contact_init3d
-  use ictus_contact_face3d, only: surface3d_init
+  use ictus_contact_face3d, only: surface3d_init, MAX_FACE_NODES
+  use ictus_contact_volume_faces, only: volume_side_faces, VF_OK, VF_NO_SIDE, VF_DEGREE, &
+      VF_COLLAPSED
   use ictus_solver_model, only: model_t, patch_nodes
   use ictus_elements_types, only: element_kind_t
   use ictus_elements_library, only: element_kind
@@ -104,15 +107,17 @@ contains
   end subroutine build_contact
 
   !> build_contact in 3D (doc/contact.md §9): the TYPE=ELEMENT surfaces as quadrilateral
-  !! faces, the TWO HALF PASS pairs and the rigid walls between them. What 3D contact does not
-  !! have yet is an input error at its card: other algorithms, *TIE, friction, bipenalty and
-  !! surfaces of patch sides.
+  !! faces, the surfaces of the sides of trivariate patches as rational Bezier faces
+  !! (volume_sides), the TWO HALF PASS pairs and the rigid walls between them. What 3D contact
+  !! does not have yet is an input error at its card: other algorithms, *TIE, friction and
+  !! bipenalty.
   subroutine build_contact3d(deck, model, c)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(in) :: model
     type(contact_t), intent(inout) :: c
     type(id_map_t) :: emap
-    integer, allocatable :: conn(:,:), nens(:), elem(:)
+    integer, allocatable :: conn(:,:), nens(:), elem(:), deg(:,:)
+    real(dp), allocatable :: ext1(:,:,:), ext2(:,:,:), wgt(:,:)
     integer :: i, k, n0, s1, s2, nface
     character(len=str_len) :: name
     character(len=*), parameter :: not_yet = ': not yet in 3D (3D contact has ALGORITHM='// &
@@ -123,14 +128,20 @@ contains
     call id_map_init(emap, model%elem_id)
     do i = 1, deck%n_surfaces
       associate (sin => deck%surfaces(i))
-        if (sin%kind /= SURF_ELEMENT) then
-          allocate(nens(0), conn(9, 0))
+        if (sin%kind == SURF_PATCH) then
+          call volume_sides(model, sin, nface, nens, conn, deg, ext1, ext2, wgt)
+          call surface3d_init(c%d3%surfaces(i), nens, conn, model%x0, deg=deg, ext1=ext1, &
+              ext2=ext2, wgt=wgt)
         else
-          call element_faces(deck, model, emap, sin, nface, conn, nens, elem)
-          nens = nens(1:nface)
-          conn = conn(:, 1:nface)
+          if (sin%kind /= SURF_ELEMENT) then
+            allocate(nens(0), conn(9, 0))
+          else
+            call element_faces(deck, model, emap, sin, nface, conn, nens, elem)
+            nens = nens(1:nface)
+            conn = conn(:, 1:nface)
+          end if
+          call surface3d_init(c%d3%surfaces(i), nens, conn, model%x0)
         end if
-        call surface3d_init(c%d3%surfaces(i), nens, conn, model%x0)
         deallocate(nens, conn)
         if (allocated(elem)) deallocate(elem)
       end associate
@@ -177,23 +188,109 @@ contains
     if (error_count() == n0 .and. c%npairs > 0) call contact_setup(c)
   end subroutine build_contact3d
 
-  !> A surface of a 3D contact (index s, 0: undefined, already reported) must be made of
-  !! element faces.
+  !> A surface of a 3D contact (index s, 0: undefined, already reported) must have faces
+  !! (element faces or faces of patch sides).
   subroutine check_surface3d(deck, c, s, where, card)
     type(deck_t), intent(in) :: deck
     type(contact_t), intent(in) :: c
     integer, intent(in) :: s
     character(len=*), intent(in) :: where, card
     if (s == 0) return
-    if (deck%surfaces(s)%kind /= SURF_ELEMENT) then
-      call input_error(where, card//': surface '//trim(deck%surfaces(s)%name)//' is made '// &
-          'of patch sides; contact on the faces of trivariate patches is not yet in 3D '// &
-          '(use element faces, *SURFACE, TYPE=ELEMENT)')
-    else if (c%d3%surfaces(s)%nface == 0) then
-      call input_error(where, card//': surface '//trim(deck%surfaces(s)%name)// &
-          ' has no element faces')
-    end if
+    if (c%d3%surfaces(s)%nface == 0) call input_error(where, card//': surface '// &
+        trim(deck%surfaces(s)%name)//' has no '//trim(merge('element faces', &
+        'faces        ', deck%surfaces(s)%kind == SURF_ELEMENT)))
   end subroutine check_surface3d
+
+  !> The rational Bezier faces of the sides of trivariate patches of a 3D surface (PATCH=,
+  !! SIDE= of the card and of its data lines), side after side (ictus_contact_volume_faces:
+  !! one face per element on the side, a1 x a2 out of the patch). SIDE=ALL takes the six
+  !! sides but the collapsed ones (a line or a point); a named side whose outward normal is
+  !! undefined (collapsed, inverted or partly degenerate) is an input error at its line.
+  subroutine volume_sides(model, sin, nface, nens, conn, deg, ext1, ext2, wgt)
+    type(model_t), intent(in) :: model
+    type(surface_in_t), intent(in) :: sin
+    integer, intent(out) :: nface
+    integer, allocatable, intent(out) :: nens(:), conn(:,:), deg(:,:)
+    real(dp), allocatable, intent(out) :: ext1(:,:,:), ext2(:,:,:), wgt(:,:)
+    integer, allocatable :: nens1(:), conn1(:,:), deg1(:,:), sc(:), sides(:)
+    real(dp), allocatable :: ext11(:,:,:), ext21(:,:,:), wgt1(:,:)
+    character(len=str_len), allocatable :: sp(:)
+    character(len=:), allocatable :: w, what
+    integer :: ip, ierr, k, j, n1
+    call surface_entries(sin, sp, sc)
+    nface = 0
+    allocate(nens(0), conn(MAX_FACE_NODES, 0), deg(2, 0), ext1(4, 4, 0), ext2(4, 4, 0), &
+        wgt(MAX_FACE_NODES, 0))
+    do k = 1, size(sc)
+      ip = entry_patch(model, sin, sp(k), k, w)
+      if (ip == 0) cycle
+      sides = [sc(k)]
+      if (sc(k) == SIDE_ALL) sides = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, SIDE_ZETA0, &
+          SIDE_ZETA1]
+      do j = 1, size(sides)
+        call volume_side_faces(model%volumes(ip), sides(j), patch_nodes(model, ip), n1, &
+            nens1, conn1, deg1, ext11, ext21, wgt1, ierr)
+        if (ierr == VF_COLLAPSED .and. sc(k) == SIDE_ALL) cycle
+        if (ierr /= VF_OK) then
+          select case (ierr)
+          case (VF_NO_SIDE)
+            what = 'patch side '//side_name(sides(j))//' does not exist (expected XI0, '// &
+                'XI1, ETA0, ETA1, ZETA0, ZETA1 or ALL)'
+          case (VF_DEGREE)
+            what = 'contact faces of degree above 3 are not supported (side '// &
+                side_name(sides(j))//' of patch '//trim(sp(k))//'; a 3D contact face is '// &
+                'at most bicubic)'
+          case (VF_COLLAPSED)
+            what = 'side '//side_name(sides(j))//' of patch '//trim(sp(k))//' is '// &
+                'collapsed (a line or a point: det J vanishes on it), so it has no outward '// &
+                'normal and cannot be a contact surface'
+          case default
+            what = 'the Jacobian of patch '//trim(sp(k))//' vanishes or changes sign on '// &
+                'side '//side_name(sides(j))//', so the outward normal is undefined '// &
+                '(inverted or degenerate patch)'
+          end select
+          call input_error(w, '*SURFACE '//trim(sin%name)//': '//what)
+          cycle
+        end if
+        nens = [nens, nens1]
+        conn = reshape([conn, conn1], [MAX_FACE_NODES, nface + n1])
+        deg = reshape([deg, deg1], [2, nface + n1])
+        ext1 = reshape([ext1, ext11], [4, 4, nface + n1])
+        ext2 = reshape([ext2, ext21], [4, 4, nface + n1])
+        wgt = reshape([wgt, wgt1], [MAX_FACE_NODES, nface + n1])
+        nface = nface + n1
+      end do
+    end do
+  end subroutine volume_sides
+
+  !> The (patch, side) entries of a PATCH= surface: the card's, or its data lines'.
+  subroutine surface_entries(sin, sp, sc)
+    type(surface_in_t), intent(in) :: sin
+    character(len=str_len), allocatable, intent(out) :: sp(:)
+    integer, allocatable, intent(out) :: sc(:)
+    if (allocated(sin%side_code)) then
+      sp = sin%side_patch
+      sc = sin%side_code
+    else
+      sp = [sin%patch]
+      sc = [sin%side]
+    end if
+  end subroutine surface_entries
+
+  !> The patch of entry k (patch name sp) of a PATCH= surface, 0 (and an error) when
+  !! undefined; w: the entry's deck location.
+  integer function entry_patch(model, sin, sp, k, w) result(ip)
+    type(model_t), intent(in) :: model
+    type(surface_in_t), intent(in) :: sin
+    character(len=*), intent(in) :: sp
+    integer, intent(in) :: k
+    character(len=:), allocatable, intent(out) :: w
+    w = trim(sin%where)
+    if (allocated(sin%side_code)) w = trim(sin%entry_where(k))
+    ip = patch_index(model, sp)
+    if (ip == 0) call input_error(w, '*SURFACE '//trim(sin%name)//': patch '// &
+        trim(sp)//' is not defined by a *PATCH card')
+  end function entry_patch
 
   !> Every *TIE must tie something: an input error when no point of its first surface lies
   !! on the second (within 5 % of the longest segment), a warning naming the count when
@@ -367,13 +464,7 @@ contains
     character(len=str_len), allocatable :: sp(:)
     character(len=:), allocatable :: w
     integer :: ip, ierr, e0, k, m, nm, n1, pmax
-    if (allocated(sin%side_code)) then
-      sp = sin%side_patch
-      sc = sin%side_code
-    else
-      sp = [sin%patch]
-      sc = [sin%side]
-    end if
+    call surface_entries(sin, sp, sc)
     pmax = 1
     m = 0
     do k = 1, size(sc)
@@ -389,14 +480,8 @@ contains
     ext = 0.0_dp
     nseg = 0
     do k = 1, size(sc)
-      w = trim(sin%where)
-      if (allocated(sin%side_code)) w = trim(sin%entry_where(k))
-      ip = patch_index(model, sp(k))
-      if (ip == 0) then
-        call input_error(w, '*SURFACE '//trim(sin%name)//': patch '// &
-            trim(sp(k))//' is not defined by a *PATCH card')
-        cycle
-      end if
+      ip = entry_patch(model, sin, sp(k), k, w)
+      if (ip == 0) cycle
       call patch_side_segments(model%patches(ip), model%patch_offset(ip), sc(k), n1, &
           nens1, conn1, wgt1, ext1, elem1, ierr, node=patch_nodes(model, ip))
       if (ierr == 1) then

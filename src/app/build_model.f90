@@ -26,7 +26,7 @@ module ictus_app_build_model
   use ictus_io_deck_types, only: deck_t, where_len, SET_NODE, SET_ELEMENT, OP_ELEVATE, &
       OP_REFINE, DECK_PLANE_STRAIN => ANALYSIS_PLANE_STRAIN
   use ictus_app_id_map, only: id_map_t, id_map_init, id_map_find
-  use ictus_app_merge_patches, only: merge_patch_points
+  use ictus_app_merge_patches, only: merge_patch_points, merge_volume_points
   use ictus_app_build_volumes, only: build_volumes
   implicit none
   private
@@ -283,8 +283,9 @@ contains
   end function patch_index
 
   !> Global numbering: FE nodes in deck order, then each patch's control points (direction 1
-  !! fastest), where control points merged into an earlier one (*PATCH, MERGE=YES) take that
-  !! one's number. Control points get the ids max(FE id) + 1, + 2, ...
+  !! fastest), where control points merged into an earlier one (*PATCH, MERGE=YES; in 3D the
+  !! coincident control points of one trivariate patch, merge_volume_points) take that one's
+  !! number. Control points get the ids max(FE id) + 1, + 2, ...
   subroutine build_nodes(deck, model, node_map, nfe)
     type(deck_t), intent(in) :: deck
     type(model_t), intent(inout) :: model
@@ -299,7 +300,12 @@ contains
       n = n + patch_ncp(model, ip)
     end do
     model%nn = n
-    if (any(deck%patches(1:model%npatch)%merge)) then
+    if (model%ndm == 3 .and. model%npatch > 0) then
+      ! the coincident control points of each trivariate patch (collapsed sides)
+      call merge_volume_points(model%volumes, model%patch_offset, n, model%cp_node, model%nn)
+      model%nmerged = n - model%nn
+      if (model%nmerged == 0) deallocate(model%cp_node)
+    else if (any(deck%patches(1:model%npatch)%merge)) then
       call merge_patch_points(model%patches, model%patch_offset, &
           deck%patches(1:model%npatch)%merge, deck%patches(1:model%npatch)%where, n, &
           model%cp_node, model%nn)

@@ -453,6 +453,8 @@ contains
     call log_info('model: '//str(model%nn)//' nodes/control points, '//str(model%nel)// &
         ' elements, '//str(model%npatch)//' patches, '//str(count(model%fixed))// &
         ' fixed dofs, total mass '//str(ops%total_mass))
+    if (model%nmerged > 0 .and. model%ndm == 3) call log_info('model: '//str(model%nmerged)// &
+        ' coincident control points of trivariate patches merged (collapsed sides)')
     if (dom%nparts > 1) call log_info('partition: '//str(dom%nparts)//' METIS parts; rank 0 '// &
         'owns '//str(dom%nowned)//' nodes and reads '//str(dom%nlocal - dom%nowned)//' ghosts')
     if (ops%consistent) then

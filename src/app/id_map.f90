@@ -3,7 +3,7 @@
 module ictus_app_id_map
   implicit none
   private
-  public :: id_map_t, id_map_init, id_map_find
+  public :: id_map_t, id_map_init, id_map_find, merge_sort
 
   type :: id_map_t
     integer, allocatable :: keys(:)

@@ -15,12 +15,18 @@ module ictus_app_merge_patches
   use ictus_core_strings, only: str
   use ictus_geometry_sides, only: SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1, side_name
   use ictus_geometry_patch, only: patch_t, patch_side_points
+  use ictus_geometry_volume, only: volume_t
+  use ictus_app_id_map, only: merge_sort
   implicit none
   private
-  public :: merge_patch_points, merge_tol
+  public :: merge_patch_points, merge_tol, merge_volume_points, volume_merge_tol
 
   !> Relative tolerance of coincidence (coordinates against the patch size, and weights).
   real(dp), parameter :: merge_tol = 1.0e-9_dp
+
+  !> Coincident control points of one trivariate patch: within this times its bounding-box
+  !! diagonal (merge_volume_points).
+  real(dp), parameter :: volume_merge_tol = 1.0e-10_dp
 
   !> Relative tolerance of equal knot vectors (scaled to [0, 1]).
   real(dp), parameter :: knot_tol = 1.0e-10_dp
@@ -45,7 +51,7 @@ contains
     integer, parameter :: sides(4) = [SIDE_XI0, SIDE_XI1, SIDE_ETA0, SIDE_ETA1]
     integer, allocatable :: parent(:)
     real(dp), allocatable :: diag(:)
-    integer :: np, a, b, sa, sb, u, r
+    integer :: np, a, b, sa, sb, u
     np = size(patches)
     allocate(parent(nn0), diag(np))
     parent = [(u, u = 1, nn0)]
@@ -66,17 +72,7 @@ contains
         end do
       end do
     end do
-    allocate(cp_node(nn0))
-    nn = 0
-    do u = 1, nn0
-      r = find_root(parent, u)
-      if (r == u) then
-        nn = nn + 1
-        cp_node(u) = nn
-      else
-        cp_node(u) = cp_node(r)
-      end if
-    end do
+    call numbering(parent, cp_node, nn)
 
   contains
 
@@ -145,6 +141,53 @@ contains
     end subroutine glue_sides
   end subroutine merge_patch_points
 
+  !> Node numbering of a 3D model after merging the coincident control points of each
+  !! trivariate patch (the collapsed sides of a degenerate patch, as the quarter-ball's axis
+  !! segment and centre: doc/iga.md §11), so that a body has no edge of zero length between
+  !! separate nodes. Coincident: within volume_merge_tol times the patch's bounding-box
+  !! diagonal. Each group becomes one node numbered in order of its first member (cp_node(u)
+  !! <= u, as merge_patch_points); the weights may differ (each element keeps the weights of
+  !! its own control points). The candidates are found by sorting the control points along a
+  !! generic direction (cells of 1e-8 diagonals): the result depends on the coordinates
+  !! only, the same on every rank.
+  !! @param volumes the refined patches; @param offset index of each patch's first control
+  !! point minus one; @param nn0 nodes before merging; @param cp_node node of each u after
+  !! merging (nn0); @param nn nodes after merging
+  subroutine merge_volume_points(volumes, offset, nn0, cp_node, nn)
+    type(volume_t), intent(in) :: volumes(:)
+    integer, intent(in) :: offset(:), nn0
+    integer, allocatable, intent(out) :: cp_node(:)
+    integer, intent(out) :: nn
+    ! a direction along which no plane of a usual control net projects to one value
+    real(dp), parameter :: dir(3) = [0.8017837257_dp, 0.5469001627_dp, 0.2358453154_dp]
+    integer, allocatable :: parent(:), key(:), order(:)
+    real(dp) :: diag, tol, cell
+    integer :: a, i, j, m, u
+    allocate(parent(nn0))
+    parent = [(u, u = 1, nn0)]
+    do a = 1, size(volumes)
+      associate (cp => volumes(a)%cp)
+        m = size(cp, 2)
+        diag = norm2(maxval(cp(1:3, :), dim=2) - minval(cp(1:3, :), dim=2))
+        tol = volume_merge_tol*diag
+        cell = 1.0e-8_dp*diag
+        if (.not. (cell > 0.0_dp)) cycle
+        key = [(nint(dot_product(dir, cp(1:3, i) - cp(1:3, 1))/cell), i = 1, m)]
+        order = [(i, i = 1, m)]
+        call merge_sort(key, order)
+        ! coincident points lie in the same or the next cell of the sorted keys
+        do i = 1, m
+          do j = i + 1, m
+            if (key(j) > key(i) + 1) exit
+            if (norm2(cp(1:3, order(i)) - cp(1:3, order(j))) <= tol) &
+                call join(parent, offset(a) + order(i), offset(a) + order(j))
+          end do
+        end do
+      end associate
+    end do
+    call numbering(parent, cp_node, nn)
+  end subroutine merge_volume_points
+
   !> Distance between control point i of patch p and control point j of patch q.
   pure real(dp) function dist(p, i, q, j)
     type(patch_t), intent(in) :: p, q
@@ -165,6 +208,26 @@ contains
     end if
     k = (k - k(1))/(k(size(k)) - k(1))
   end function side_knots
+
+  !> One node per group of the union-find forest parent, numbered in order of its first
+  !! member: cp_node(u) of each member u, nn nodes.
+  pure subroutine numbering(parent, cp_node, nn)
+    integer, intent(in) :: parent(:)
+    integer, allocatable, intent(out) :: cp_node(:)
+    integer, intent(out) :: nn
+    integer :: u, r
+    allocate(cp_node(size(parent)))
+    nn = 0
+    do u = 1, size(parent)
+      r = find_root(parent, u)
+      if (r == u) then
+        nn = nn + 1
+        cp_node(u) = nn
+      else
+        cp_node(u) = cp_node(r)
+      end if
+    end do
+  end subroutine numbering
 
   !> Root of u in the union-find forest (the smallest member of its group).
   pure integer function find_root(parent, u) result(r)

@@ -28,7 +28,7 @@ module ictus_io_iga_viz
   use ictus_geometry_bezier, only: bernstein
   use ictus_geometry_patch, only: patch_elem_ij
   use ictus_geometry_volume, only: volume_elem_ijk
-  use ictus_solver_model, only: model_t, patch_pmax
+  use ictus_solver_model, only: model_t, patch_pmax, element_cp_weight
   implicit none
   private
   public :: iga_viz_t, iga_viz_init, iga_viz_eval, iga_viz_points, iga_viz_cells, &
@@ -193,7 +193,7 @@ contains
                 do a2 = 1, vp%p(2) + 1
                   do a1 = 1, vp%p(1) + 1
                     a = a + 1
-                    r(a) = model%weight(model%conn(a, e))*vp%n1(a1, i1, ijk(1))* &
+                    r(a) = element_cp_weight(model, e, a)*vp%n1(a1, i1, ijk(1))* &
                         vp%n2(a2, i2, ijk(2))*vp%n3(a3, i3, ijk(3))
                     ww = ww + r(a)
                   end do

@@ -16,7 +16,7 @@ module ictus_solver_model
   implicit none
   private
   public :: model_t, model_free, model_kinematics, patch_node, patch_nodes, model_force_kind, &
-      patch_ncp, patch_name, patch_pmax
+      element_cp_weight, patch_ncp, patch_name, patch_pmax
   public :: FORCE_AUTO, FORCE_ASSEMBLED, FORCE_ELEMENT, MASS_SOLVER_CG, &
       MASS_SOLVER_CHOLESKY, MASS_SOLVER_CORRECTOR, &
       MASS_SOLVER_KRONECKER, MASS_SOLVER_AUTO, output_set_t, VAR_U, VAR_V, VAR_A, VAR_S, &
@@ -172,6 +172,23 @@ contains
     patch_node = m%patch_offset(ip) + k
     if (allocated(m%cp_node)) patch_node = m%cp_node(patch_node)
   end function patch_node
+
+  !> Weight of the local control point a of element e: its patch's (merged coincident control
+  !! points of a degenerate trivariate patch share a node but not always a weight), 1 for a
+  !! finite element.
+  pure real(dp) function element_cp_weight(m, e, a) result(w)
+    type(model_t), intent(in) :: m
+    integer, intent(in) :: e, a
+    integer :: ip
+    w = 1.0_dp
+    ip = m%patch(e)
+    if (ip == 0) return
+    if (m%ndm == 3) then
+      w = m%volumes(ip)%cp(4, m%volumes(ip)%ien(a, m%patch_elem(e)))
+    else
+      w = m%patches(ip)%cp(3, m%patches(ip)%ien(a, m%patch_elem(e)))
+    end if
+  end function element_cp_weight
 
   !> Global nodes of all control points of patch ip (direction 1 fastest).
   pure function patch_nodes(m, ip) result(nodes)
