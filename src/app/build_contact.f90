@@ -121,7 +121,7 @@ contains
     integer :: i, k, n0, s1, s2, nface
     character(len=str_len) :: name
     character(len=*), parameter :: not_yet = ': not yet in 3D (3D contact has ALGORITHM='// &
-        'TWO HALF PASS pairs and rigid walls, frictionless, between element faces)'
+        'TWO HALF PASS pairs and rigid walls, frictionless, between element faces and patch sides)'
     n0 = error_count()
     call contact_init3d(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
     c%node_id = model%node_id
