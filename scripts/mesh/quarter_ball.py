@@ -3,8 +3,9 @@
 the quarter model of a sphere with the two symmetry planes x = cx and y = cy, for the dynamic
 Hertz sphere of doc/reference.md §3.8 (sphere on a rigid wall; contact point c - R e_z at the
 bottom, on the z axis through the centre c). A hexahedral mesh (cubed sphere) or one exact
-NURBS patch. ictus runs the hexahedral and the NURBS bodies (doc/iga.md §11); not yet the
-rigid wall or the contact pair (doc/elements3d.md §7).
+NURBS patch. ictus runs both with the rigid wall and, for --partner body, the contact pair
+(ALGORITHM=TWO HALF PASS; NODE TO SEGMENT and MORTAR are not yet in 3D): doc/contact.md §9,
+verification/hertz_sphere and hertz_sphere_iga.
 
     quarter_ball.py --kind hex20 [--n 8] [--m 0] [--inner 0.5] [--grade 1] [options] > ball.inp
     quarter_ball.py --kind nurbs [--subdivide 8] [--m 0] [--elevate 2] [options] > ball.inp
