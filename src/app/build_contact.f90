@@ -118,10 +118,11 @@ contains
     type(id_map_t) :: emap
     integer, allocatable :: conn(:,:), nens(:), elem(:), deg(:,:)
     real(dp), allocatable :: ext1(:,:,:), ext2(:,:,:), wgt(:,:)
-    integer :: i, k, n0, s1, s2, nface
+    integer :: i, k, n0, s1, s2, nface, kind
     character(len=str_len) :: name
     character(len=*), parameter :: not_yet = ': not yet in 3D (3D contact has ALGORITHM='// &
-        'TWO HALF PASS pairs and rigid walls, frictionless, between element faces and patch sides)'
+        'TWO HALF PASS and NODE TO SEGMENT pairs and rigid walls, frictionless, between '// &
+        'element faces and patch sides)'
     n0 = error_count()
     call contact_init3d(c, deck%n_surfaces, deck%n_pairs + deck%n_walls)
     c%node_id = model%node_id
@@ -142,6 +143,7 @@ contains
           end if
           call surface3d_init(c%d3%surfaces(i), nens, conn, model%x0)
         end if
+        c%d3%names(i) = sin%name
         deallocate(nens, conn)
         if (allocated(elem)) deallocate(elem)
       end associate
@@ -152,10 +154,9 @@ contains
         s2 = surface_index(deck, p%second, p%where, '*CONTACT PAIR '//trim(p%name))
         if (p%tie) then
           call input_error(p%where, '*TIE'//not_yet)
-        else if (p%algorithm /= CONTACT_TWO_HALF_PASS) then
-          call input_error(p%where, '*CONTACT PAIR '//trim(p%name)//': ALGORITHM='// &
-              trim(merge('NODE TO SEGMENT', 'MORTAR         ', &
-              p%algorithm == CONTACT_NODE_TO_SEGMENT))//not_yet)
+        else if (p%algorithm == CONTACT_MORTAR) then
+          call input_error(p%where, '*CONTACT PAIR '//trim(p%name)//': ALGORITHM=MORTAR'// &
+              not_yet)
         end if
         if (p%mass_penalty >= 0.0_dp) call input_error(p%where, '*CONTACT PAIR '// &
             trim(p%name)//': MASS PENALTY (bipenalty)'//not_yet)
@@ -168,8 +169,9 @@ contains
         call check_surface3d(deck, c, s2, p%where, '*CONTACT PAIR '//trim(p%name))
         name = p%name
         if (len_trim(name) == 0) name = 'pair'//str(i)
-        call contact_define_pair(c, i, name, PAIR_TWO_HALF_PASS, p%penalty, max(s1, 1), &
-            max(s2, 1))
+        kind = PAIR_TWO_HALF_PASS
+        if (p%algorithm == CONTACT_NODE_TO_SEGMENT) kind = PAIR_NODE_TO_SEGMENT
+        call contact_define_pair(c, i, name, kind, p%penalty, max(s1, 1), max(s2, 1))
       end associate
     end do
     do i = 1, deck%n_walls

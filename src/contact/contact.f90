@@ -77,7 +77,8 @@ contains
     call contact_init(c, 0, npairs)
     c%ndm = 3
     c%d3%nsurf = nsurf
-    allocate(c%d3%surfaces(nsurf), c%d3%pairs(npairs))
+    allocate(c%d3%surfaces(nsurf), c%d3%pairs(npairs), c%d3%names(nsurf))
+    c%d3%names = ''
   end subroutine contact_init3d
 
   !> Releases everything.
@@ -109,6 +110,7 @@ contains
       c%d3%pairs(k)%first = first
       c%d3%pairs(k)%second = second
       c%d3%pairs(k)%radius = c%pairs(k)%radius
+      c%d3%pairs(k)%nts = kind == PAIR_NODE_TO_SEGMENT
     end if
   end subroutine contact_define_pair
 
@@ -127,7 +129,6 @@ contains
     c%pairs(k)%penalty = penalty
     c%pairs(k)%first = surf
     c%pairs(k)%second = 0
-    c%pairs(k)%wall_point = point
     ! scaled by its largest component first: the squares of a normal of 1e-300 or 1e300 would
     ! leave the range of doubles, and any length names the same direction
     n = normal/maxval(abs(normal))
@@ -249,6 +250,7 @@ contains
     do k = 1, c%npairs
       associate (p => c%pairs(k))
         p%npoints = c%d3%surfaces(c%d3%pairs(k)%first)%ngp
+        if (c%d3%pairs(k)%nts) p%npoints = c%d3%surfaces(c%d3%pairs(k)%first)%nsn
         if (allocated(p%x)) deallocate(p%x)
         if (allocated(p%pressure)) deallocate(p%pressure)
         if (allocated(p%inside)) deallocate(p%inside)
@@ -331,6 +333,9 @@ contains
         p%active_points = q%active_points
         p%outside_points = q%outside_points
         p%outside_total = p%outside_total + q%outside_points
+        p%outside_x = q%outside_x(1:2)
+        p%outside_surf = q%outside_surf
+        p%outside_node = q%outside_node
         energy = energy + q%energy
       end associate
     end do

@@ -3,11 +3,11 @@
 !! coordinates and the predictor-corrector stability ratio. `ictus_contact_contact` holds one
 !! of these in a 3D model and calls it where the 2D model calls its segment routines.
 module ictus_contact_contact3d
-  use ictus_core_kinds, only: dp
+  use ictus_core_kinds, only: dp, str_len
   use ictus_contact_face3d, only: surface3d_t, face_shape, projection3d_t, project3d, &
       P3_INTERIOR, P3_CORNER, MAX_FACE_NODES
   use ictus_contact_pair3d, only: pair3d_t, pair3d_setup, pair3d_grids, two_half_pass3d, &
-      wall3d
+      wall3d, node_to_surface3d
   use ictus_contact_search3d, only: grid3_query
   implicit none
   private
@@ -18,6 +18,8 @@ module ictus_contact_contact3d
     !! owner's pairs.
     integer :: nsurf = 0
     type(surface3d_t), allocatable :: surfaces(:)
+    !> The surfaces' names (for messages).
+    character(len=str_len), allocatable :: names(:)
     type(pair3d_t), allocatable :: pairs(:)
   end type contact3d_t
 
@@ -29,8 +31,9 @@ contains
     integer :: k, s2
     do k = 1, size(c%pairs)
       s2 = c%pairs(k)%second
+      ! a wall (second = 0) passes its own surface twice
       call pair3d_setup(c%pairs(k), c%surfaces(c%pairs(k)%first), &
-          c%surfaces(max(s2, c%pairs(k)%first)), s2 == 0)
+          c%surfaces(merge(s2, c%pairs(k)%first, s2 > 0)), s2 == 0)
     end do
   end subroutine contact3d_setup
 
@@ -44,6 +47,8 @@ contains
     associate (p => c%pairs(k))
       if (p%second == 0) then
         call wall3d(p, c%surfaces(p%first), x, fc, xs, ps)
+      else if (p%nts) then
+        call node_to_surface3d(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, xs, ps)
       else
         call two_half_pass3d(p, c%surfaces(p%first), c%surfaces(p%second), x, fc, xs, ps)
       end if
@@ -52,7 +57,8 @@ contains
 
   !> The largest contact ratio r = dt^2 eps (l_s/m_s + l_m/m_m) of pair k on x (3, nn) with
   !! the lumped masses m_diag (nn) (doc/contact.md §9.4): over the nodes of each surface
-  !! acting as slave, l_s/m_s of the node (l: the row-sum weight ell_row) and, against
+  !! acting as slave (NODE TO SEGMENT: the first only), l_s/m_s of the node (l: the
+  !! row-sum weight ell_row; NODE TO SEGMENT: the nodal area) and, against
   !! another surface, l_m/m_m = sum_B |N_B| l_B/m_B at the node's closest point on the other
   !! surface (its largest l/m where the node has no closest point); a wall has the slave term
   !! only. gs, gm: the node of the largest r and its master node of largest |N_B| (0: none).
@@ -74,8 +80,9 @@ contains
         call pair3d_grids(p, c%surfaces(p%first), c%surfaces(p%second), x)
         call side_ratio(p, c%surfaces(p%first), c%surfaces(p%second), .false., eps, x, &
             m_diag, dt, r, gs, gm, .true.)
-        call side_ratio(p, c%surfaces(p%second), c%surfaces(p%first), .true., eps, x, &
-            m_diag, dt, r, gs, gm, .true.)
+        ! NODE TO SEGMENT: only the first surface's nodes are slaves
+        if (.not. p%nts) call side_ratio(p, c%surfaces(p%second), c%surfaces(p%first), &
+            .true., eps, x, m_diag, dt, r, gs, gm, .true.)
       end if
     end associate
   end subroutine contact3d_ratio
@@ -109,7 +116,7 @@ contains
     end if
     do a = 1, slave%nsn
       g = slave%nodes(a)
-      rs = over_m(slave%ell_row(a), m_diag(g))
+      rs = over_m(merge(slave%area(a), slave%ell_row(a), p%nts), m_diag(g))
       rm = 0.0_dp
       gb = 0
       if (against) then

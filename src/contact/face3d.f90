@@ -42,6 +42,9 @@ module ictus_contact_face3d
   !> Newton iterations, halvings, tolerance on xi.
   integer, parameter :: max_iter = 40, max_halvings = 8
   real(dp), parameter :: tol = 1.0e-13_dp
+  !> How far past a side of its face (in the face's parameter, width 2) a projection may
+  !! fall and still be on the face.
+  real(dp), parameter :: edge_tol = 0.05_dp
 
   type :: surface3d_t
     !> Faces: nodes per face (Lagrange 4, 8 or 9; Bezier (p1 + 1)(p2 + 1)), global nodes
@@ -66,8 +69,10 @@ module ictus_contact_face3d
     !> Nodal weights l_A = int N_A dA (reference), their row-sum bound
     !! l_row_A = int |N_A| sum_B |N_B| dA (the Gershgorin row sum of the penalty stiffness
     !! of a flat contact per unit penalty: > 0 also at the corners of 8-node faces, where
-    !! l_A < 0), the largest face diameter.
-    real(dp), allocatable :: ell(:), ell_row(:)
+    !! l_A < 0), the nodal areas of NODE TO SEGMENT a_A (each face's area shared in the
+    !! proportions of int N_A^2 dA, as HRZ shares an element's mass: > 0, summing to the
+    !! area), the largest face diameter.
+    real(dp), allocatable :: ell(:), ell_row(:), area(:)
     real(dp) :: hmax = 0.0_dp
   end type surface3d_t
 
@@ -263,7 +268,7 @@ contains
     real(dp), intent(in) :: x0(:,:)
     integer, intent(in), optional :: ng
     real(dp) :: gx(8), gw(8), xp(3), a(3, 2), n(3), jac, r(MAX_FACE_NODES), &
-        dr(2, MAX_FACE_NODES)
+        dr(2, MAX_FACE_NODES), diag(MAX_FACE_NODES), af
     integer :: f, i, j, m, q, k
     s%ngp = 0
     do f = 1, s%nface
@@ -271,12 +276,14 @@ contains
     end do
     allocate(s%gp_face(s%ngp), s%gp_xi(2, s%ngp), s%gp_wj(s%ngp), &
         s%gp_r(MAX_FACE_NODES, s%ngp))
-    allocate(s%ell(s%nsn), s%ell_row(s%nsn), source=0.0_dp)
+    allocate(s%ell(s%nsn), s%ell_row(s%nsn), s%area(s%nsn), source=0.0_dp)
     s%gp_r = 0.0_dp
     q = 0
     do f = 1, s%nface
       m = nrule(s, f, ng)
       call gauss_legendre(m, gx(1:m), gw(1:m))
+      diag = 0.0_dp
+      af = 0.0_dp
       do j = 1, m
         do i = 1, m
           q = q + 1
@@ -290,8 +297,13 @@ contains
             s%ell(s%lnode(k, f)) = s%ell(s%lnode(k, f)) + r(k)*s%gp_wj(q)
             s%ell_row(s%lnode(k, f)) = s%ell_row(s%lnode(k, f)) + abs(r(k))* &
                 sum(abs(r(1:s%nen(f))))*s%gp_wj(q)
+            diag(k) = diag(k) + r(k)**2*s%gp_wj(q)
           end do
+          af = af + s%gp_wj(q)
         end do
+      end do
+      do k = 1, s%nen(f)
+        s%area(s%lnode(k, f)) = s%area(s%lnode(k, f)) + af*diag(k)/sum(diag(1:s%nen(f)))
       end do
     end do
   end subroutine setup_gauss
@@ -315,8 +327,8 @@ contains
     real(dp), intent(in) :: x(:,:), xs(3)
     real(dp), intent(out) :: xi(2), xp(3), n(3)
     integer, intent(out) :: side
-    real(dp) :: a(3, 2), jac, h(2, 2), g(2), dxi(2), xt(2), xq(3), dist, dnew, det, scale
-    integer :: it, m, c
+    real(dp) :: a(3, 2), jac, h(2, 2), g(2), dxi(2), xt(2), xq(3), dist, dnew, det, scale, pull
+    integer :: it, m, c, k
     xi = 0.0_dp
     call face_geometry(s, f, x, xi, xp, a, n, jac)
     dist = norm2(xs - xp)
@@ -349,9 +361,18 @@ contains
       if (it >= 4 .and. dist > 0.25_dp*scale .and. dot_product(xs - xp, n) > 0.5_dp*dist) exit
     end do
     call face_geometry(s, f, x, xi, xp, a, n, jac)
+    ! on a side of the square the point is beyond the face where it pulls outward by more
+    ! than an edge tolerance: the free Gauss-Newton step across that side,
+    ! (xs - xp).a_k/|a_k|^2, above 0.05 (2.5 % of the face's width). A point whose closest
+    ! point lies on the side, or just past it because the interpolated surface's tangent at
+    ! the side is not that of the geometry (a node on a symmetry plane, where a quarter
+    ! model's surface ends), is on the face.
     side = 0
     do c = 1, 4
-      if (on_side(xi, c)) side = c
+      if (.not. on_side(xi, c)) cycle
+      k = merge(2, 1, c == 1 .or. c == 3)
+      pull = dot_product(xs - xp, a(:, k))*merge(1.0_dp, -1.0_dp, c == 2 .or. c == 3)
+      if (pull > edge_tol*dot_product(a(:, k), a(:, k))) side = c
     end do
   end subroutine project_face
 

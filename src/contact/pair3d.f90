@@ -14,17 +14,19 @@
 module ictus_contact_pair3d
   use ictus_core_kinds, only: dp
   use ictus_contact_face3d, only: surface3d_t, face_bbox, projection3d_t, project3d, &
-      P3_INTERIOR, P3_CORNER, P3_OUTSIDE
+      P3_INTERIOR, P3_CORNER, P3_OUTSIDE, face_shape, MAX_FACE_NODES
   use ictus_contact_search3d, only: grid3_t, grid3_init, grid3_build, grid3_query
   implicit none
   private
-  public :: pair3d_t, pair3d_setup, pair3d_grids, two_half_pass3d, wall3d
+  public :: pair3d_t, pair3d_setup, pair3d_grids, two_half_pass3d, wall3d, node_to_surface3d
 
   type :: pair3d_t
     !> Surface indices of the first and second surface in their owner's list (second = 0
-    !! for a rigid wall); not used by the routines here, which take the surfaces.
+    !! for a rigid wall); not used by the routines here, which take the surfaces. nts: NODE
+    !! TO SEGMENT (the first surface's nodes against the second) instead of TWO HALF PASS.
     integer :: first = 0
     integer :: second = 0
+    logical :: nts = .false.
     !> Normal penalty, search radius (0: the largest face of the two surfaces).
     real(dp) :: penalty = 0.0_dp
     real(dp) :: radius = 0.0_dp
@@ -43,6 +45,11 @@ module ictus_contact_pair3d
     real(dp) :: max_penetration = 0.0_dp
     integer :: active_points = 0
     integer :: outside_points = 0
+    !> The first outside point of the last evaluation: its coordinates, its surface (1 the
+    !! first, 2 the second) and the node of its face with the largest shape function.
+    real(dp) :: outside_x(3) = 0.0_dp
+    integer :: outside_surf = 0
+    integer :: outside_node = 0
   end type pair3d_t
 
 contains
@@ -109,19 +116,20 @@ contains
     call pair3d_grids(p, s1, s2, x)
     e1 = 0.0_dp
     e2 = 0.0_dp
-    call half_pass(p, s1, s2, p%grid_second, x, fc, p%force_first, e1, xs, ps)
-    call half_pass(p, s2, s1, p%grid_first, x, fc, p%force_second, e2)
+    call half_pass(p, s1, s2, p%grid_second, x, fc, p%force_first, e1, 1, xs, ps)
+    call half_pass(p, s2, s1, p%grid_first, x, fc, p%force_second, e2, 2)
     p%energy = 0.5_dp*(e1 + e2)
   end subroutine two_half_pass3d
 
   !> One half-pass: the Gauss points of `slave` against `master` (grid built); forces on
   !! the slave's nodes, its resultant and energy accumulated; xs, ps as in two_half_pass3d.
-  subroutine half_pass(p, slave, master, grid, x, fc, force, energy, xs, ps)
+  subroutine half_pass(p, slave, master, grid, x, fc, force, energy, side, xs, ps)
     type(pair3d_t), intent(inout) :: p
     type(surface3d_t), intent(in) :: slave, master
     type(grid3_t), intent(in) :: grid
     real(dp), intent(in) :: x(:,:)
     real(dp), intent(inout) :: fc(:,:), force(3), energy
+    integer, intent(in) :: side
     real(dp), intent(inout), optional :: xs(:,:), ps(:)
     type(projection3d_t) :: pr
     real(dp) :: xq(3), gp, tr(3)
@@ -136,7 +144,8 @@ contains
       if (present(ps)) ps(q) = 0.0_dp
       call grid3_query(grid, xq, p%cand, ncand)
       call project3d(master, x, xq, p%cand, ncand, pr)
-      if (pr%status == P3_OUTSIDE .and. pr%d < 0.0_dp) p%outside_points = p%outside_points + 1
+      if (pr%status == P3_OUTSIDE .and. pr%d < 0.0_dp) call outside(p, xq, side, &
+          slave%conn(maxloc(slave%gp_r(1:slave%nen(f), q), dim=1), f))
       if (pr%status /= P3_INTERIOR .and. pr%status /= P3_CORNER) cycle
       gp = max(0.0_dp, -pr%d)
       if (gp <= 0.0_dp) cycle
@@ -149,6 +158,19 @@ contains
       p%active_points = p%active_points + 1
     end do
   end subroutine half_pass
+
+  !> Counts an outside point (at xq, of surface `side`, nearest node g); the first of an
+  !! evaluation is kept.
+  pure subroutine outside(p, xq, side, g)
+    type(pair3d_t), intent(inout) :: p
+    real(dp), intent(in) :: xq(3)
+    integer, intent(in) :: side, g
+    p%outside_points = p%outside_points + 1
+    if (p%outside_points > 1) return
+    p%outside_x = xq
+    p%outside_surf = side
+    p%outside_node = g
+  end subroutine outside
 
   !> The force tr of Gauss point q of face f onto the face's nodes (N_A tr), accumulated
   !! into fc and the resultant.
@@ -164,6 +186,48 @@ contains
     end do
     force = force + tr
   end subroutine spread
+
+  !> NODE TO SEGMENT in 3D (node to surface): every node A of the slave surface s1 is
+  !! projected onto the master s2; with penetration gp = -d > 0 it gets eps gp a_A n (a_A its
+  !! nodal area, n the master's outward normal at the closest point) and the master face's
+  !! nodes get -eps gp a_A n N_B(xi). Action equals reaction node by node. Optional xs
+  !! (3, s1%nsn), ps (s1%nsn): the slave nodes and their pressures eps gp.
+  subroutine node_to_surface3d(p, s1, s2, x, fc, xs, ps)
+    type(pair3d_t), intent(inout) :: p
+    type(surface3d_t), intent(in) :: s1, s2
+    real(dp), intent(in) :: x(:,:)
+    real(dp), intent(inout) :: fc(:,:)
+    real(dp), intent(inout), optional :: xs(:,:), ps(:)
+    type(projection3d_t) :: pr
+    real(dp) :: gp, tr(3), nr(MAX_FACE_NODES), dnr(2, MAX_FACE_NODES)
+    integer :: a, g, b, ncand
+    call reset(p)
+    call build_grid(s2, x, p%radius, p%grid_second)
+    do a = 1, s1%nsn
+      g = s1%nodes(a)
+      if (present(xs)) xs(:, a) = x(:, g)
+      if (present(ps)) ps(a) = 0.0_dp
+      call grid3_query(p%grid_second, x(:, g), p%cand, ncand)
+      call project3d(s2, x, x(:, g), p%cand, ncand, pr)
+      if (pr%status == P3_OUTSIDE .and. pr%d < 0.0_dp) call outside(p, x(:, g), 1, g)
+      if (pr%status /= P3_INTERIOR .and. pr%status /= P3_CORNER) cycle
+      gp = max(0.0_dp, -pr%d)
+      if (gp <= 0.0_dp) cycle
+      tr = p%penalty*gp*s1%area(a)*pr%normal
+      fc(:, g) = fc(:, g) + tr
+      p%force_first = p%force_first + tr
+      call face_shape(s2, pr%face, pr%xi, nr, dnr)
+      do b = 1, s2%nen(pr%face)
+        fc(:, s2%conn(b, pr%face)) = fc(:, s2%conn(b, pr%face)) - nr(b)*tr
+      end do
+      p%force_second = p%force_second - tr
+      if (present(ps)) ps(a) = p%penalty*gp
+      p%energy = p%energy + 0.5_dp*p%penalty*gp*gp*s1%area(a)
+      p%max_pressure = max(p%max_pressure, p%penalty*gp)
+      p%max_penetration = max(p%max_penetration, gp)
+      p%active_points = p%active_points + 1
+    end do
+  end subroutine node_to_surface3d
 
   !> Rigid-wall forces on surface s at the coordinates x (3, nn), accumulated into fc; the
   !! force on the wall is -force_first. Optional xs, ps as in two_half_pass3d.

@@ -244,8 +244,9 @@ contains
         if (p%outside_points > 0 .and. p%outside_total == p%outside_points) call warning( &
             'contact', 'pair '//trim(p%name)//': '//str(p%outside_points)//' contact '// &
             'point(s) penetrate the other surface but project beyond its end, or left '// &
-            'the search radius while penetrating (no force applied) at t = '//str(stp%s%t + stp%s%dt)//'; the first at ('// &
-            str(p%outside_x(1))//', '//str(p%outside_x(2))//') on surface '// &
+            'the search radius while penetrating (no force applied) at t = '// &
+            str(stp%s%t + stp%s%dt)//'; the first at ('//outside_text(stp%contact, kp)// &
+            ') on surface '// &
             trim(outside_surface(stp%contact, kp))//' near node '// &
             str(outside_node_id(stp%contact, kp))//'; extend the surfaces to cover the '// &
             'contact zone (counted per step in outside_points, doc/contact.md §3)')
@@ -273,7 +274,18 @@ contains
     if (c%pairs(k)%outside_surf == 2) i = c%pairs(k)%second
     name = '?'
     if (i >= 1 .and. i <= c%nsurf) name = trim(c%surfaces(i)%name)
+    if (c%ndm == 3 .and. i >= 1 .and. i <= c%d3%nsurf) name = trim(c%d3%names(i))
   end function outside_surface
+
+  !> The coordinates of the first outside point of pair k, "x, y" or "x, y, z".
+  function outside_text(c, k) result(text)
+    type(contact_t), intent(in) :: c
+    integer, intent(in) :: k
+    character(len=:), allocatable :: text
+    text = str(c%pairs(k)%outside_x(1))//', '//str(c%pairs(k)%outside_x(2))
+    if (c%ndm == 3) text = str(c%d3%pairs(k)%outside_x(1))//', '// &
+        str(c%d3%pairs(k)%outside_x(2))//', '//str(c%d3%pairs(k)%outside_x(3))
+  end function outside_text
 
   !> User id of the node nearest to the first outside point of pair k.
   pure integer function outside_node_id(c, k) result(id)
