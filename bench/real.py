@@ -217,13 +217,15 @@ def peak_main(argv):
     sys.exit(os.waitstatus_to_exitcode(status))
 
 
-def run_ictus(args, deck, ranks=1):
-    """Runs ictus on deck (ranks > 1: under mpirun); returns (log, wall seconds of the
-    process, peak resident bytes of each rank). Raises RuntimeError when it fails."""
+def run_ictus(args, deck, ranks=1, options=None):
+    """Runs ictus on deck (ranks > 1: under mpirun) with options (default: -o the deck's
+    .h5, removed after); returns (log, wall seconds of the process, peak resident bytes of
+    each rank). Raises RuntimeError when it fails."""
     ictus = os.path.join(args.build_dir, "bin", "ictus")
     peak = deck[:-len(".inp")] + ".peak"
-    cmd = [sys.executable, os.path.abspath(__file__), "--peak", peak, "--", ictus, deck,
-           "-o", deck[:-len(".inp")] + ".h5"]
+    options = ["-o", deck[:-len(".inp")] + ".h5"] if options is None else options
+    cmd = [sys.executable, os.path.abspath(__file__), "--peak", peak, "--", ictus, deck] + \
+        options
     env = dict(os.environ)
     if ranks > 1:
         env.update(bm.MPI_ENV)
