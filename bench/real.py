@@ -74,14 +74,16 @@ def hertz_model(path, case, size):
     """The model of a Hertz case (all of hertz.py's deck up to *STEP) in path; returns the
     number of elements and whether the step is NLGEOM."""
     kind = "q8" if case.startswith("hertz-q8") else "iga"
-    n = max(2, round(math.sqrt(size / 2)))
+    # -wall (bench/scaling.py): one half-disc on a rigid wall (hertz.py --wall)
+    bodies = 1 if case.endswith("-wall") else 2
+    n = max(2, round(math.sqrt(size / bodies)))
     mass = "CONSISTENT" if case.endswith("-consistent") else "HRZ"
     cmd = [sys.executable, HERTZ, "--kind", kind, "--mass", mass,
-           "--n" if kind == "q8" else "--subdivide", str(n)]
+           "--n" if kind == "q8" else "--subdivide", str(n)] + (["--wall"] if bodies == 1 else [])
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     with open(path, "w") as f:
         f.write(text[:text.index("\n*STEP\n") + 1])
-    return 2 * n * n, case.endswith("-nlgeom")
+    return bodies * n * n, case.endswith("-nlgeom")
 
 
 def plate_model(path, case, size):

@@ -119,7 +119,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="1e5,2e5")
     ap.add_argument("--ranks", default="1,2")
-    ap.add_argument("--kinds", default="iga", help="iga and/or q8")
+    ap.add_argument("--kinds", default="iga",
+                    help="iga, q8, iga-wall (one half-disc on a rigid wall: METIS splits it)")
     ap.add_argument("--steps", type=int, default=500, help="steps of each ictus run")
     ap.add_argument("--repeat", type=int, default=3, help="ictus-bench --repeat")
     ap.add_argument("--stream-mb", type=int, default=256)
