@@ -74,14 +74,16 @@ def hertz_model(path, case, size):
     """The model of a Hertz case (all of hertz.py's deck up to *STEP) in path; returns the
     number of elements and whether the step is NLGEOM."""
     kind = "q8" if case.startswith("hertz-q8") else "iga"
-    n = max(2, round(math.sqrt(size / 2)))
+    # -wall (bench/scaling.py): one half-disc on a rigid wall (hertz.py --wall)
+    bodies = 1 if case.endswith("-wall") else 2
+    n = max(2, round(math.sqrt(size / bodies)))
     mass = "CONSISTENT" if case.endswith("-consistent") else "HRZ"
     cmd = [sys.executable, HERTZ, "--kind", kind, "--mass", mass,
-           "--n" if kind == "q8" else "--subdivide", str(n)]
+           "--n" if kind == "q8" else "--subdivide", str(n)] + (["--wall"] if bodies == 1 else [])
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     with open(path, "w") as f:
         f.write(text[:text.index("\n*STEP\n") + 1])
-    return 2 * n * n, case.endswith("-nlgeom")
+    return bodies * n * n, case.endswith("-nlgeom")
 
 
 def plate_model(path, case, size):
@@ -217,13 +219,15 @@ def peak_main(argv):
     sys.exit(os.waitstatus_to_exitcode(status))
 
 
-def run_ictus(args, deck, ranks=1):
-    """Runs ictus on deck (ranks > 1: under mpirun); returns (log, wall seconds of the
-    process, peak resident bytes of each rank). Raises RuntimeError when it fails."""
+def run_ictus(args, deck, ranks=1, options=None):
+    """Runs ictus on deck (ranks > 1: under mpirun) with options (default: -o the deck's
+    .h5, removed after); returns (log, wall seconds of the process, peak resident bytes of
+    each rank). Raises RuntimeError when it fails."""
     ictus = os.path.join(args.build_dir, "bin", "ictus")
     peak = deck[:-len(".inp")] + ".peak"
-    cmd = [sys.executable, os.path.abspath(__file__), "--peak", peak, "--", ictus, deck,
-           "-o", deck[:-len(".inp")] + ".h5"]
+    options = ["-o", deck[:-len(".inp")] + ".h5"] if options is None else options
+    cmd = [sys.executable, os.path.abspath(__file__), "--peak", peak, "--", ictus, deck] + \
+        options
     env = dict(os.environ)
     if ranks > 1:
         env.update(bm.MPI_ENV)
