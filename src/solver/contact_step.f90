@@ -293,7 +293,8 @@ contains
   !! h = 1e-4 times the largest penetration (|x| = 1), small enough not to change the active
   !! set of a flat interface; D are the bipenalty added masses of the active points at x_u
   !! (0 without bipenalty). Lumped mass only (a consistent mass returns omega = -1).
-  !! Allocates its work arrays: for tests and diagnostics, not for the time loop.
+  !! Allocates its work arrays: for tests and diagnostics, not for the time loop; 2D models
+  !! (two components, the 2 x 2 blocks of k).
   !! @param cs contact step (contact_step_init done); @param c contact; @param k stiffness;
   !! @param mop mass operator; @param dom domain; @param x0 reference coordinates (2, nn);
   !! @param u local displacements (2, nlocal); @param omega estimate; @param iters
